@@ -1,0 +1,70 @@
+// Running mean and variance (Welford's update) for a fixed number of
+// components, so a multi-component boundary array is estimated from the same
+// walks and each component gets its own variance.
+#ifndef GRIDFREE_CORE_RUNNINGSTATISTICS_H
+#define GRIDFREE_CORE_RUNNINGSTATISTICS_H
+
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+namespace gridfree
+{
+class RunningStatistics
+{
+public:
+  explicit RunningStatistics(int components = 1)
+    : Mean(components, 0.0)
+    , M2(components, 0.0)
+  {
+  }
+
+  void Reset()
+  {
+    this->Count = 0;
+    std::fill(this->Mean.begin(), this->Mean.end(), 0.0);
+    std::fill(this->M2.begin(), this->M2.end(), 0.0);
+  }
+
+  // Adds one sample with Components() values. Welford's form stays accurate
+  // when the mean is large compared with the spread (e.g. temperatures in K).
+  void Add(const double* sample)
+  {
+    ++this->Count;
+    const double invCount = 1.0 / static_cast<double>(this->Count);
+    for (std::size_t c = 0; c < this->Mean.size(); ++c)
+    {
+      const double delta = sample[c] - this->Mean[c];
+      this->Mean[c] += delta * invCount;
+      this->M2[c] += delta * (sample[c] - this->Mean[c]);
+    }
+  }
+
+  int Components() const { return static_cast<int>(this->Mean.size()); }
+  std::size_t SampleCount() const { return this->Count; }
+  double GetMean(int c) const { return this->Mean[c]; }
+
+  // Unbiased sample variance of one sample, s^2 (N - 1 in the denominator).
+  double SampleVariance(int c) const
+  {
+    if (this->Count < 2)
+    {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    return this->M2[c] / static_cast<double>(this->Count - 1);
+  }
+
+  // Variance of the reported mean, s^2 / N: what the *_Variance arrays hold.
+  double VarianceOfMean(int c) const
+  {
+    return this->SampleVariance(c) / static_cast<double>(this->Count);
+  }
+
+private:
+  std::size_t Count = 0;
+  std::vector<double> Mean;
+  std::vector<double> M2;
+};
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,87 @@
+"""Shared helpers of the Python tests: boundaries with known harmonic
+solutions, and a catcher for VTK error and warning messages."""
+import math
+
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.vtkConstants import VTK_STRING
+from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersSources import vtkRegularPolygonSource, vtkSphereSource
+
+
+def saddle(x, y, z=0.0):
+    return x * x - y * y
+
+
+def add_point_array(polydata, name, function, components=1):
+    array = vtkDoubleArray()
+    array.SetName(name)
+    array.SetNumberOfComponents(components)
+    for i in range(polydata.GetNumberOfPoints()):
+        value = function(*polydata.GetPoint(i))
+        array.InsertNextTuple(value if components > 1 else (value,))
+    polydata.GetPointData().AddArray(array)
+    return array
+
+
+def sphere_boundary(function=saddle, name="T", resolution=128):
+    """Unit sphere (triangles) carrying function(x, y, z) as a point array."""
+    source = vtkSphereSource()
+    source.SetRadius(1.0)
+    source.SetThetaResolution(resolution)
+    source.SetPhiResolution(resolution)
+    source.Update()
+    boundary = vtkPolyData()
+    boundary.DeepCopy(source.GetOutput())
+    add_point_array(boundary, name, function)
+    return boundary
+
+
+def circle_boundary(function, name="T", sides=2048):
+    """Unit circle in the plane z = 0 as one closed polyline (a 2D problem)."""
+    source = vtkRegularPolygonSource()
+    source.SetNumberOfSides(sides)
+    source.SetRadius(1.0)
+    source.SetCenter(0.0, 0.0, 0.0)
+    source.GeneratePolygonOff()
+    source.GeneratePolylineOn()
+    source.Update()
+    boundary = vtkPolyData()
+    boundary.DeepCopy(source.GetOutput())
+    add_point_array(boundary, name, function)
+    return boundary
+
+
+def z_scores(output, exact, name="T"):
+    values = output.GetPointData().GetArray(name)
+    variances = output.GetPointData().GetArray(name + "_Variance")
+    scores = []
+    for i in range(output.GetNumberOfPoints()):
+        estimate = values.GetTuple1(i)
+        scores.append((estimate - exact(*output.GetPoint(i))) / math.sqrt(variances.GetTuple1(i)))
+    return scores
+
+
+class MessageCatcher:
+    """Collects ErrorEvent and WarningEvent texts of VTK objects."""
+
+    def __init__(self, *objects):
+        self.errors = []
+        self.warnings = []
+        for obj in objects:
+            obj.AddObserver(vtkCommand.ErrorEvent, self._on_error)
+            obj.AddObserver(vtkCommand.WarningEvent, self._on_warning)
+
+    @calldata_type(VTK_STRING)
+    def _on_error(self, obj, event, text):
+        self.errors.append(text)
+
+    @calldata_type(VTK_STRING)
+    def _on_warning(self, obj, event, text):
+        self.warnings.append(text)
+
+    def error_text(self):
+        return "\n".join(self.errors)
+
+    def warning_text(self):
+        return "\n".join(self.warnings)

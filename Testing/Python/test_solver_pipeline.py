@@ -1,0 +1,171 @@
+"""vtkWalkOnSpheresSolver in VTK pipelines driven from /usr/bin/python3."""
+import math
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData  # noqa: E402
+from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
+
+from gridfree_testing import (  # noqa: E402
+    MessageCatcher, circle_boundary, saddle, sphere_boundary, z_scores)
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+CELLS = vtkDataObject.FIELD_ASSOCIATION_CELLS
+
+
+def plane(origin, point1, point2, resolution):
+    source = vtkPlaneSource()
+    source.SetOrigin(*origin)
+    source.SetPoint1(*point1)
+    source.SetPoint2(*point2)
+    source.SetResolution(resolution, resolution)
+    return source
+
+
+def solver_for(boundary, probe_port=None, probe_data=None, walks=128, array="T", assoc=POINTS):
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(boundary)
+    if probe_port is not None:
+        solver.SetProbeConnection(probe_port)
+    else:
+        solver.SetProbeData(probe_data)
+    solver.SetInputArrayToProcess(0, 0, 0, assoc, array)
+    solver.SetWalksPerPoint(walks)
+    return solver
+
+
+def assert_accurate_and_calibrated(scores):
+    assert len(scores) >= 500
+    worst = max(abs(z) for z in scores)
+    mean_z2 = sum(z * z for z in scores) / len(scores)
+    assert worst < 5.0, worst
+    assert 0.7 < mean_z2 < 1.4, mean_z2
+
+
+def test_plane_probe_3d_accuracy_and_calibration():
+    # 24 x 24 = 576 points on a slice through a sphere carrying x^2 - y^2.
+    probe = plane((-0.6, -0.6, 0.2), (0.6, -0.6, 0.2), (-0.6, 0.6, 0.2), 23)
+    solver = solver_for(sphere_boundary(), probe.GetOutputPort(), walks=256)
+    solver.SetSeed(3)
+    solver.Update()
+    output = solver.GetOutput()
+    assert output.IsA("vtkPolyData")
+    assert output.GetNumberOfPoints() == 576
+    assert output.GetPointData().GetScalars().GetName() == "T"
+    # The probe's own arrays pass through.
+    assert output.GetPointData().GetArray("Normals") is not None
+    assert_accurate_and_calibrated(z_scores(output, saddle))
+
+
+def test_image_probe_stays_image():
+    image = vtkImageData()
+    image.SetDimensions(12, 10, 4)
+    image.SetOrigin(-0.4, -0.3, -0.2)
+    image.SetSpacing(0.07, 0.06, 0.1)
+    solver = solver_for(sphere_boundary(), probe_data=image, walks=64)
+    solver.Update()
+    output = solver.GetOutput()
+    assert isinstance(output, vtkImageData)
+    assert output.GetDimensions() == (12, 10, 4)
+    assert output.GetSpacing() == (0.07, 0.06, 0.1)
+    assert output.GetOrigin() == (-0.4, -0.3, -0.2)
+    for name in ("T", "T_Variance", "WalkSteps", "EscapedFraction", "TruncatedFraction"):
+        array = output.GetPointData().GetArray(name)
+        assert array is not None and array.GetNumberOfTuples() == 480, name
+    scores = z_scores(output, saddle)
+    assert max(abs(z) for z in scores) < 5.0
+
+
+def test_2d_polyline_boundary_accuracy_and_calibration():
+    def exp_cos(x, y, z=0.0):
+        return math.exp(x) * math.cos(y)
+
+    probe = plane((-0.6, -0.6, 0.0), (0.6, -0.6, 0.0), (-0.6, 0.6, 0.0), 23)
+    solver = solver_for(circle_boundary(exp_cos), probe.GetOutputPort(), walks=256)
+    solver.Update()
+    assert solver.GetLastDimension() == 2
+    assert_accurate_and_calibrated(z_scores(solver.GetOutput(), exp_cos))
+
+
+def test_cell_data_and_multiple_components():
+    boundary = sphere_boundary(resolution=64)
+    # Cell data: constant 2.5 everywhere, so u = 2.5 exactly, with zero variance.
+    cells = vtkDoubleArray()
+    cells.SetName("C")
+    cells.SetNumberOfTuples(boundary.GetNumberOfCells())
+    cells.Fill(2.5)
+    boundary.GetCellData().AddArray(cells)
+    # Three components: (1, x^2 - y^2, 2 (x^2 - y^2)).
+    vectors = vtkDoubleArray()
+    vectors.SetName("V")
+    vectors.SetNumberOfComponents(3)
+    for i in range(boundary.GetNumberOfPoints()):
+        s = saddle(*boundary.GetPoint(i))
+        vectors.InsertNextTuple((1.0, s, 2.0 * s))
+    boundary.GetPointData().AddArray(vectors)
+    probe = plane((-0.5, -0.5, 0.0), (0.5, -0.5, 0.0), (-0.5, 0.5, 0.0), 4)
+
+    solver = solver_for(boundary, probe.GetOutputPort(), walks=32, array="C", assoc=CELLS)
+    solver.Update()
+    out = solver.GetOutput().GetPointData()
+    assert out.GetArray("C").GetRange() == (2.5, 2.5)
+    assert out.GetArray("C_Variance").GetRange() == (0.0, 0.0)
+
+    solver = solver_for(boundary, probe.GetOutputPort(), walks=32, array="V")
+    solver.Update()
+    out = solver.GetOutput().GetPointData()
+    v, var = out.GetArray("V"), out.GetArray("V_Variance")
+    assert v.GetNumberOfComponents() == 3 and var.GetNumberOfComponents() == 3
+    for i in range(v.GetNumberOfTuples()):
+        one, s, twice = v.GetTuple3(i)
+        assert abs(one - 1.0) < 1e-12
+        assert abs(twice - 2.0 * s) < 1e-12  # same walks for every component
+        assert abs(var.GetComponent(i, 2) - 4.0 * var.GetComponent(i, 1)) < 1e-12
+
+
+def test_same_numbers_for_any_thread_count():
+    boundary = sphere_boundary(resolution=48)
+    probe = plane((-0.5, -0.5, 0.1), (0.5, -0.5, 0.1), (-0.5, 0.5, 0.1), 15)
+    results = []
+    for threads in (1, 2, 0):
+        solver = solver_for(boundary, probe.GetOutputPort(), walks=16)
+        solver.SetNumberOfThreads(threads)
+        solver.SetSeed(11)
+        solver.Update()
+        array = solver.GetOutput().GetPointData().GetArray("T")
+        results.append([array.GetTuple1(i) for i in range(array.GetNumberOfTuples())])
+    assert results[0] == results[1] == results[2]
+    # A different seed gives different numbers.
+    solver = solver_for(boundary, probe.GetOutputPort(), walks=16)
+    solver.SetSeed(12)
+    solver.Update()
+    array = solver.GetOutput().GetPointData().GetArray("T")
+    assert [array.GetTuple1(i) for i in range(array.GetNumberOfTuples())] != results[0]
+
+
+def test_progress_is_reported_and_abort_is_prompt():
+    boundary = sphere_boundary(resolution=48)
+    probe = plane((-0.5, -0.5, 0.0), (0.5, -0.5, 0.0), (-0.5, 0.5, 0.0), 99)
+    solver = solver_for(boundary, probe.GetOutputPort(), walks=4096)  # ~40M walks: minutes
+    catcher = MessageCatcher(solver)
+    progress = []
+
+    def on_progress(obj, event):
+        progress.append(obj.GetProgress())
+        if len(progress) == 3:
+            obj.SetAbortExecute(1)
+
+    solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
+    start = time.monotonic()
+    solver.Update()
+    elapsed = time.monotonic() - start
+    assert len(progress) >= 3
+    assert elapsed < 3.0, elapsed  # three progress reports + at most one second
+    assert "aborted" in catcher.warning_text()
+    values = solver.GetOutput().GetPointData().GetArray("T")
+    assert any(math.isnan(values.GetTuple1(i)) for i in range(values.GetNumberOfTuples()))
