@@ -85,8 +85,7 @@ struct BoundingBox
     {
       return std::numeric_limits<double>::infinity();
     }
-    const Vec<DIM> gap =
-      (this->Min - p).cwiseMax(p - this->Max).cwiseMax(Vec<DIM>::Zero());
+    const Vec<DIM> gap = (this->Min - p).cwiseMax(p - this->Max).cwiseMax(Vec<DIM>::Zero());
     return gap.squaredNorm();
   }
 };

@@ -7,21 +7,28 @@
 // * Build: binned surface area heuristic on primitive centroids, O(n log n),
 //   collapsed on the fly into a 4-wide tree (each node holds the boxes of up to
 //   4 children) so that one SSE instruction sequence tests 4 boxes at once.
-// * Nodes store float boxes, rounded outward from the double boxes, and the
-//   query point is rounded to a float interval, so box distances computed in
-//   float are guaranteed LOWER bounds after a small relative safety margin:
-//   pruning never discards the true closest primitive.
+// * A node fits in one cache line: child boxes are quantized to 8 bits per
+//   side relative to the node box and decoded in float. Random queries over a
+//   large mesh are bound by memory latency, so smaller nodes pay off.
+// * Codes are rounded outward and the query point is rounded to a float
+//   interval, so box distances computed in float are guaranteed LOWER bounds
+//   after a small relative safety margin: pruning never discards the true
+//   closest primitive.
 // * Primitives are copied into leaf order with their vertex coordinates
 //   inlined (no index indirection), so a leaf is one contiguous memory block.
-// * Primitive distances are computed in double with the same kernels as the
-//   free functions of ClosestPointPrimitives.h: the answer is exact, i.e.
-//   bit-identical to a brute-force minimum over all primitives.
+// * Primitive distances are computed in double with the kernels of
+//   ClosestPointPrimitives.h. Triangles first get a plane-distance test (a
+//   lower bound, with a margin for its own rounding) that rejects most of the
+//   nearly equidistant triangles seen from deep inside a closed surface. The
+//   answer is the exact minimum over all primitives: it equals brute force
+//   up to the last-bit rounding of the kernels themselves.
 // * Traversal is nearest child first with a small fixed stack; Distance()
 //   tracks only the squared distance, and ClosestPoint() evaluates the
 //   barycentric weights once, for the winning primitive.
 //
 // Limitation: box distances are computed in float, so for coordinates beyond
 // ~1e18 they may overflow to inf; the answer stays correct but pruning is lost.
+// Queries are const and allocation free: one Bvh can serve many threads.
 #ifndef GRIDFREE_CORE_GEOMETRY_BVH_H
 #define GRIDFREE_CORE_GEOMETRY_BVH_H
 
@@ -66,8 +73,10 @@ template <>
 struct BvhPrimitive<2>
 {
   Vec2 V[2];
-  double SquaredDistance(const Vec2& x) const
+  double SquaredDistance(const Vec2& x, double /*bound2*/) const
   {
+    // A line-distance early out (as for triangles) does not pay off here:
+    // the segment kernel is barely more expensive than the test.
     return SquaredDistanceToSegment<2>(x, this->V[0], this->V[1]);
   }
   PrimitiveClosestPoint<2, 2> ClosestPoint(const Vec2& x) const
@@ -80,9 +89,9 @@ template <>
 struct BvhPrimitive<3>
 {
   Vec3 V[3];
-  double SquaredDistance(const Vec3& x) const
+  double SquaredDistance(const Vec3& x, double bound2) const
   {
-    return SquaredDistanceToTriangle(x, this->V[0], this->V[1], this->V[2]);
+    return SquaredDistanceToTriangle(x, this->V[0], this->V[1], this->V[2], bound2);
   }
   PrimitiveClosestPoint<3, 3> ClosestPoint(const Vec3& x) const
   {
@@ -140,6 +149,7 @@ public:
   /// Maximum number of primitives per leaf. Small leaves suit distance
   /// queries, whose primitive tests cost more than a 4-wide box test.
   static constexpr int kMaxLeafSize = 4;
+  static_assert(kMaxLeafSize <= 7, "leaf counts are stored in 3 bits");
 
   /// Builds the hierarchy; O(n log n). Replaces any previous content. Throws
   /// std::out_of_range for a vertex index outside `vertices`.
@@ -166,6 +176,12 @@ public:
   /// passed to Build) and the barycentric weights of the primitive's vertices.
   ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const;
 
+  /// Checks the invariants that exact queries rely on: every decoded child box
+  /// encloses the primitives below it (outward rounding), every primitive is
+  /// in exactly one leaf of 1..kMaxLeafSize primitives, and the depth fits the
+  /// traversal stack. Meant for tests; O(n log n).
+  bool Validate() const;
+
 private:
   /// Child reference: internal node index, or a leaf (high bit set) holding
   /// a start offset into Primitives (bits 3..30) and a count (bits 0..2).
@@ -173,25 +189,32 @@ private:
   static constexpr std::uint32_t kEmptyChild = 0xffffffffu;
   static constexpr std::size_t kMaxPrimitives = std::size_t(1) << 28;
 
-  /// Below this tree level the builder switches from SAH to median splits,
-  /// which bounds the depth (and the traversal stack) for any input.
-  static constexpr int kMaxSahLevel = 32;
-  static constexpr int kStackSize = 256;
+  /// Children per node, a multiple of the 4 SSE lanes. 8 was measured slower
+  /// near the surface (deeper but smaller nodes win when latency bound).
+  static constexpr int kWidth = 4;
+  static_assert(kWidth % 4 == 0, "nodes are tested 4 children at a time");
 
-  /// 4-wide node in one cache line (3D). Child boxes are quantized to 8 bits
-  /// per side relative to the node box: Origin + q * Scale, with the codes
-  /// rounded outward so decoded boxes always enclose the true ones. Halving
-  /// the node size (vs. float boxes) matters because random queries over a
-  /// large mesh are bound by memory latency. Coordinates are relative to
-  /// Center (the middle of the whole boundary) to keep float precision.
-  /// Unused slots hold kEmptyChild.
+  /// Below this tree level the builder switches from SAH to median splits,
+  /// which bounds the depth (and the traversal stack) for any input: median
+  /// splits at least halve the count per level, and counts are below 2^28.
+  static constexpr int kMaxSahLevel = 32;
+  static constexpr int kMaxDepth = kMaxSahLevel + 30;
+  /// Each level pushes at most kWidth - 1 entries.
+  static constexpr int kStackSize = (kWidth - 1) * kMaxDepth + 1;
+
+  /// Node with kWidth children; 64 bytes, one cache line, for 4 children in
+  /// 3D. Child boxes are quantized to 8 bits per side relative to the node
+  /// box: Origin + q * Scale, with the codes rounded outward so decoded boxes
+  /// always enclose the true ones. Coordinates are relative to Center (the
+  /// middle of the whole boundary) so that float precision is not wasted on an
+  /// offset. Unused slots hold kEmptyChild.
   struct alignas(64) Node
   {
     float Origin[DIM];
     float Scale[DIM];
-    std::uint8_t QLo[DIM][4];
-    std::uint8_t QHi[DIM][4];
-    std::uint32_t Child[4];
+    std::uint8_t QLo[DIM][kWidth];
+    std::uint8_t QHi[DIM][kWidth];
+    std::uint32_t Child[kWidth];
   };
 
   using PrimitiveData = detail::BvhPrimitive<DIM>;
@@ -235,45 +258,103 @@ private:
     {
       _mm_prefetch(p + off, _MM_HINT_T0);
     }
+    _mm_prefetch(p + bytes - 1, _MM_HINT_T0); // data may straddle one more line
 #else
     (void)ref;
 #endif
   }
 
 #ifdef GRIDFREE_BVH_USE_SSE
-  /// Float lower bounds of the squared distances from the query interval
-  /// [qlo, qhi] to the 4 child boxes (axes written out so that the query
-  /// stays in registers).
-  static __m128 BoxDistances(const Node& node, const __m128* qlo, const __m128* qhi)
+  /// Decoded bounds along axis k of the 4 child boxes of group g.
+  static void DecodeAxis(const Node& node, int k, int g, __m128& lo, __m128& hi)
   {
-    const __m128 zero = _mm_setzero_ps();
-    const __m128i zeroi = _mm_setzero_si128();
-    // 4 codes (bytes) -> 4 floats.
-    auto decode = [&](const std::uint8_t* q) {
+    const __m128i zero = _mm_setzero_si128();
+    auto codes = [&](const std::uint8_t* q) { // 4 bytes -> 4 floats
       std::int32_t bits;
       std::memcpy(&bits, q, 4);
-      const __m128i b = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zeroi);
-      return _mm_cvtepi32_ps(_mm_unpacklo_epi16(b, zeroi));
+      const __m128i b = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zero);
+      return _mm_cvtepi32_ps(_mm_unpacklo_epi16(b, zero));
     };
-    auto axis = [&](int k) {
-      const __m128 origin = _mm_set1_ps(node.Origin[k]);
-      const __m128 scale = _mm_set1_ps(node.Scale[k]);
-      const __m128 lo = _mm_add_ps(origin, _mm_mul_ps(decode(node.QLo[k]), scale));
-      const __m128 hi = _mm_add_ps(origin, _mm_mul_ps(decode(node.QHi[k]), scale));
-      const __m128 gap =
-        _mm_max_ps(_mm_max_ps(_mm_sub_ps(lo, qhi[k]), _mm_sub_ps(qlo[k], hi)), zero);
-      return _mm_mul_ps(gap, gap);
-    };
-    if constexpr (DIM == 2)
-    {
-      return _mm_add_ps(axis(0), axis(1));
-    }
-    else
-    {
-      return _mm_add_ps(_mm_add_ps(axis(0), axis(1)), axis(2));
-    }
+    const __m128 origin = _mm_set1_ps(node.Origin[k]);
+    const __m128 scale = _mm_set1_ps(node.Scale[k]);
+    lo = _mm_add_ps(origin, _mm_mul_ps(codes(node.QLo[k] + 4 * g), scale));
+    hi = _mm_add_ps(origin, _mm_mul_ps(codes(node.QHi[k] + 4 * g), scale));
   }
 #endif
+
+  /// Decoded child boxes of a node, with the same arithmetic as the queries.
+  static void DecodeBoxes(const Node& node, float (&lo)[DIM][kWidth], float (&hi)[DIM][kWidth])
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+#ifdef GRIDFREE_BVH_USE_SSE
+      for (int g = 0; g < kWidth / 4; ++g)
+      {
+        __m128 l, h;
+        DecodeAxis(node, k, g, l, h);
+        _mm_storeu_ps(lo[k] + 4 * g, l);
+        _mm_storeu_ps(hi[k] + 4 * g, h);
+      }
+#else
+      for (int c = 0; c < kWidth; ++c)
+      {
+        lo[k][c] = node.Origin[k] + node.QLo[k][c] * node.Scale[k];
+        hi[k][c] = node.Origin[k] + node.QHi[k][c] * node.Scale[k];
+      }
+#endif
+    }
+  }
+
+  /// Float lower bounds of the squared distances from the query interval
+  /// [xlo, xhi] to the child boxes; returns the mask of those <= threshold.
+  static int BoxDistances(
+    const Node& node, const float* xlo, const float* xhi, float threshold, float* dist2)
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    int mask = 0;
+    for (int g = 0; g < kWidth / 4; ++g)
+    {
+      auto axis = [&](int k)
+      {
+        __m128 lo, hi;
+        DecodeAxis(node, k, g, lo, hi);
+        const __m128 gap = _mm_max_ps(
+          _mm_max_ps(_mm_sub_ps(lo, _mm_set1_ps(xhi[k])), _mm_sub_ps(_mm_set1_ps(xlo[k]), hi)),
+          _mm_setzero_ps());
+        return _mm_mul_ps(gap, gap);
+      };
+      __m128 d2 = _mm_add_ps(axis(0), axis(1));
+      if constexpr (DIM == 3)
+      {
+        d2 = _mm_add_ps(d2, axis(2));
+      }
+      _mm_storeu_ps(dist2 + 4 * g, d2);
+      mask |= _mm_movemask_ps(_mm_cmple_ps(d2, _mm_set1_ps(threshold))) << (4 * g);
+    }
+    return mask;
+#else
+    float lo[DIM][kWidth], hi[DIM][kWidth];
+    DecodeBoxes(node, lo, hi);
+    int mask = 0;
+    for (int c = 0; c < kWidth; ++c)
+    {
+      float sum = 0.0f;
+      for (int k = 0; k < DIM; ++k)
+      {
+        const float gap = std::max(std::max(lo[k][c] - xhi[k], xlo[k] - hi[k][c]), 0.0f);
+        sum += gap * gap;
+      }
+      dist2[c] = sum;
+      mask |= (sum <= threshold) << c;
+    }
+    return mask;
+#endif
+  }
+
+  /// Box of the primitives below a child reference; false if an invariant of
+  /// Validate() fails in that subtree.
+  bool ValidateSubtree(
+    std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const;
 
   /// Index (into Primitives) of the nearest primitive, -1 if empty; best2
   /// returns its squared distance.
@@ -288,7 +369,8 @@ private:
 
 //------------------------------------------------------------------------------
 template <int DIM>
-void Bvh<DIM>::Build(const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives)
+void Bvh<DIM>::Build(
+  const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives)
 {
   this->Nodes.clear();
   this->Primitives.clear();
@@ -371,7 +453,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
   constexpr int kBins = 16;
   // Relative cost of descending one level vs. one primitive test; box tests
   // are cheap (4 at a time) compared to a triangle test.
-  constexpr double kTraversalCost = 0.5;
+  constexpr double kTraversalCost = 1.0;
 
   BoundingBox<DIM> centers;
   r.Box = BoundingBox<DIM>();
@@ -392,11 +474,11 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
 
   // Object median along the longest centroid axis: always balanced, used when
   // the SAH has no valid split or the tree got too deep.
-  auto medianSplit = [&]() {
+  auto medianSplit = [&]()
+  {
     const int axis = centers.LongestAxis();
     r.Mid = r.Begin + n / 2;
-    std::nth_element(s.Order.begin() + r.Begin, s.Order.begin() + r.Mid,
-      s.Order.begin() + r.End,
+    std::nth_element(s.Order.begin() + r.Begin, s.Order.begin() + r.Mid, s.Order.begin() + r.End,
       [&](std::uint32_t p, std::uint32_t q) { return s.Centers[p][axis] < s.Centers[q][axis]; });
     r.Leaf = false;
   };
@@ -481,8 +563,9 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
 
   const double lo = centers.Min[bestAxis];
   const double scale = kBins / extent[bestAxis];
-  const auto mid = std::partition(
-    s.Order.begin() + r.Begin, s.Order.begin() + r.End, [&](std::uint32_t id) {
+  const auto mid = std::partition(s.Order.begin() + r.Begin, s.Order.begin() + r.End,
+    [&](std::uint32_t id)
+    {
       return std::min(kBins - 1, static_cast<int>((s.Centers[id][bestAxis] - lo) * scale)) <
         bestBin;
     });
@@ -501,7 +584,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
 template <int DIM>
 std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level)
 {
-  Range kids[4];
+  Range kids[kWidth];
   int count = 1;
   kids[0] = r;
   for (;;)
@@ -516,7 +599,7 @@ std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level)
         pickArea = kids[i].Box.HalfArea();
       }
     }
-    if (pick < 0 || count == 4)
+    if (pick < 0 || count == kWidth)
     {
       break;
     }
@@ -539,9 +622,8 @@ std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level)
   {
     const Range& kid = kids[i];
     // Recursion reallocates Nodes: compute the child before storing it.
-    const std::uint32_t child = kid.Leaf
-      ? (kLeafFlag | (kid.Begin << 3) | (kid.End - kid.Begin))
-      : this->BuildNode(s, kid, level + 1);
+    const std::uint32_t child = kid.Leaf ? (kLeafFlag | (kid.Begin << 3) | (kid.End - kid.Begin))
+                                         : this->BuildNode(s, kid, level + 1);
     this->Nodes[index].Child[i] = child;
   }
   return index;
@@ -560,7 +642,7 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
 {
   auto lower = [](double v) { return v - std::abs(v) * 0x1p-50; };
   auto upper = [](double v) { return v + std::abs(v) * 0x1p-50; };
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < kWidth; ++i)
   {
     node.Child[i] = kEmptyChild;
   }
@@ -587,7 +669,7 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
     const double sc = scale;
     node.Origin[k] = origin;
     node.Scale[k] = scale;
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < kWidth; ++i)
     {
       if (i >= count)
       {
@@ -634,14 +716,6 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
     xlo[k] = detail::FloatDown(y - std::abs(y) * 0x1p-50);
     xhi[k] = detail::FloatUp(y + std::abs(y) * 0x1p-50);
   }
-#ifdef GRIDFREE_BVH_USE_SSE
-  __m128 qlo[DIM], qhi[DIM];
-  for (int k = 0; k < DIM; ++k)
-  {
-    qlo[k] = _mm_set1_ps(xlo[k]);
-    qhi[k] = _mm_set1_ps(xhi[k]);
-  }
-#endif
 
   struct Entry
   {
@@ -668,7 +742,7 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
         const std::uint32_t end = begin + (ref & 7u);
         for (std::uint32_t i = begin; i < end; ++i)
         {
-          const double d2 = this->Primitives[i].SquaredDistance(x);
+          const double d2 = this->Primitives[i].SquaredDistance(x, best2);
           if (d2 < best2)
           {
             best2 = d2;
@@ -680,32 +754,13 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
       }
 
       const Node& node = this->Nodes[ref];
-      alignas(16) float dist2[4];
-      int mask = 0;
-#ifdef GRIDFREE_BVH_USE_SSE
-      const __m128 d2 = BoxDistances(node, qlo, qhi);
-      _mm_store_ps(dist2, d2);
-      mask = _mm_movemask_ps(_mm_cmple_ps(d2, _mm_set1_ps(threshold)));
-#else
-      for (int c = 0; c < 4; ++c)
-      {
-        float sum = 0.0f;
-        for (int k = 0; k < DIM; ++k)
-        {
-          const float lo = node.Origin[k] + node.QLo[k][c] * node.Scale[k];
-          const float hi = node.Origin[k] + node.QHi[k][c] * node.Scale[k];
-          const float gap = std::max(std::max(lo - xhi[k], xlo[k] - hi), 0.0f);
-          sum += gap * gap;
-        }
-        dist2[c] = sum;
-        mask |= (sum <= threshold) << c;
-      }
-#endif
-      // Collect the children to visit (empty slots have inf distance, which
-      // passes an inf threshold, hence the explicit check) sorted by distance.
-      Entry hits[4];
+      float dist2[kWidth];
+      const int mask = BoxDistances(node, xlo, xhi, threshold, dist2);
+      // Collect the children to visit, sorted by distance. Empty slots hold
+      // an inverted box whose finite distance may pass the test: skip them.
+      Entry hits[kWidth];
       int numHits = 0;
-      for (int c = 0; c < 4; ++c)
+      for (int c = 0; c < kWidth; ++c)
       {
         if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
         {
@@ -736,6 +791,84 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
     }
   }
   return best;
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+bool Bvh<DIM>::Validate() const
+{
+  if (this->Primitives.empty())
+  {
+    return this->Nodes.empty() && this->OriginalIds.empty();
+  }
+  if (this->Nodes.empty() || this->OriginalIds.size() != this->Primitives.size())
+  {
+    return false;
+  }
+  std::vector<char> seen(this->Primitives.size(), 0);
+  BoundingBox<DIM> content;
+  if (!this->ValidateSubtree(0u, 1, seen, content))
+  {
+    return false;
+  }
+  return std::all_of(seen.begin(), seen.end(), [](char c) { return c == 1; });
+}
+
+template <int DIM>
+bool Bvh<DIM>::ValidateSubtree(
+  std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const
+{
+  content = BoundingBox<DIM>();
+  if (ref & kLeafFlag)
+  {
+    const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
+    const std::uint32_t count = ref & 7u;
+    if (count == 0 || count > static_cast<std::uint32_t>(kMaxLeafSize) ||
+      begin + count > this->Primitives.size())
+    {
+      return false;
+    }
+    for (std::uint32_t i = begin; i < begin + count; ++i)
+    {
+      seen[i]++;
+      for (const auto& v : this->Primitives[i].V)
+      {
+        content.Expand(v);
+      }
+    }
+    return true;
+  }
+  if (ref >= this->Nodes.size() || depth > kMaxDepth)
+  {
+    return false;
+  }
+  const Node& node = this->Nodes[ref];
+  float lo[DIM][kWidth], hi[DIM][kWidth];
+  DecodeBoxes(node, lo, hi);
+  for (int c = 0; c < kWidth; ++c)
+  {
+    if (node.Child[c] == kEmptyChild)
+    {
+      continue;
+    }
+    BoundingBox<DIM> box;
+    if (!this->ValidateSubtree(node.Child[c], depth + 1, seen, box))
+    {
+      return false;
+    }
+    for (int k = 0; k < DIM; ++k)
+    {
+      // Same outward shift as the encoder and the query for the subtraction.
+      const double l = box.Min[k] - this->Center[k];
+      const double h = box.Max[k] - this->Center[k];
+      if (!(lo[k][c] <= l - std::abs(l) * 0x1p-50 && hi[k][c] >= h + std::abs(h) * 0x1p-50))
+      {
+        return false;
+      }
+    }
+    content.Expand(box);
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -50,8 +50,7 @@ inline double SegmentParameter(const Vec<DIM>& x, const Vec<DIM>& a, const Vec<D
 /// Point at parameter t; the end points are returned exactly (not a + 1 * ab),
 /// so that vertex queries are bit-exact.
 template <int DIM>
-inline Vec<DIM> SegmentPoint(
-  double t, const Vec<DIM>& a, const Vec<DIM>& b, const Vec<DIM>& ab)
+inline Vec<DIM> SegmentPoint(double t, const Vec<DIM>& a, const Vec<DIM>& b, const Vec<DIM>& ab)
 {
   if (t <= 0.0)
   {
@@ -95,36 +94,44 @@ inline double SquaredDistanceToSegment(const Vec<DIM>& x, const Vec<DIM>& a, con
   return (x - detail::SegmentPoint<DIM>(t, a, b, ab)).squaredNorm();
 }
 
-/// Closest point on triangle (a, b, c) in 3D.
-///
-/// The query is projected onto the triangle's plane and its barycentric
-/// coordinates are computed with the dual basis of the edges (ac x n, n x ab),
-/// which stays accurate for thin triangles, unlike formulations based on 2x2
-/// determinants of dot products. If the projection is inside, it is the
-/// answer. Otherwise the closest point lies on an edge whose opposite weight is
-/// negative (at most two of them), which the robust segment kernel handles.
-/// Degenerate triangles (collinear or repeated vertices) are the union of
-/// their three edges.
-inline PrimitiveClosestPoint<3, 3> ClosestPointOnTriangle(
-  const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c)
+namespace detail
+{
+/// Edge vectors and normal of triangle (a, b, c), shared by the kernels.
+struct TriangleFrame
+{
+  Vec3 ab, ac, n;
+  double nn;     // |n|^2 = |ab|^2 |ac|^2 sin^2(angle at a)
+  double ab2ac2; // |ab|^2 |ac|^2
+  bool degenerate;
+
+  TriangleFrame(const Vec3& a, const Vec3& b, const Vec3& c)
+    : ab(b - a)
+    , ac(c - a)
+    , n(ab.cross(ac))
+    , nn(n.squaredNorm())
+    , ab2ac2(ab.squaredNorm() * ac.squaredNorm())
+    // Written so that NaN input counts as degenerate (edge path, no division).
+    , degenerate(!(nn > kDegenerateTriangleSin2 * ab2ac2))
+  {
+  }
+};
+
+inline PrimitiveClosestPoint<3, 3> TriangleClosestPoint(
+  const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, const TriangleFrame& f)
 {
   PrimitiveClosestPoint<3, 3> r;
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 n = ab.cross(ac);
-  const double nn = n.squaredNorm();
   // Edge candidates; each flag is set for edges that may hold the answer.
   bool testBC = true, testCA = true, testAB = true;
-  if (nn > detail::kDegenerateTriangleSin2 * ab.squaredNorm() * ac.squaredNorm())
+  if (!f.degenerate)
   {
     const Vec3 ap = x - a;
-    const double inv = 1.0 / nn;
-    const double v = ap.dot(ac.cross(n)) * inv;
-    const double w = ap.dot(n.cross(ab)) * inv;
+    const double inv = 1.0 / f.nn;
+    const double v = ap.dot(f.ac.cross(f.n)) * inv;
+    const double w = ap.dot(f.n.cross(f.ab)) * inv;
     const double u = 1.0 - v - w;
     if (u >= 0.0 && v >= 0.0 && w >= 0.0)
     {
-      r.point = a + v * ab + w * ac;
+      r.point = a + v * f.ab + w * f.ac;
       r.weights << u, v, w;
       r.squaredDistance = (x - r.point).squaredNorm();
       return r;
@@ -169,12 +176,56 @@ inline PrimitiveClosestPoint<3, 3> ClosestPointOnTriangle(
   }
   return r;
 }
+} // namespace detail
+
+/// Closest point on triangle (a, b, c) in 3D.
+///
+/// The query is projected onto the triangle's plane and its barycentric
+/// coordinates are computed with the dual basis of the edges (ac x n, n x ab),
+/// which stays accurate for thin triangles, unlike formulations based on 2x2
+/// determinants of dot products. If the projection is inside, it is the
+/// answer. Otherwise the closest point lies on an edge whose opposite weight is
+/// negative (at most two of them), which the robust segment kernel handles.
+/// Degenerate triangles (collinear or repeated vertices) are the union of
+/// their three edges.
+inline PrimitiveClosestPoint<3, 3> ClosestPointOnTriangle(
+  const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  return detail::TriangleClosestPoint(x, a, b, c, detail::TriangleFrame(a, b, c));
+}
 
 /// Squared distance to triangle (a, b, c); identical to
 /// ClosestPointOnTriangle(x, a, b, c).squaredDistance (same arithmetic).
 inline double SquaredDistanceToTriangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c)
 {
   return ClosestPointOnTriangle(x, a, b, c).squaredDistance;
+}
+
+/// Squared distance to triangle (a, b, c) for a search that only needs
+/// distances below sqrt(bound2): returns +inf early when the distance to the
+/// triangle's plane, a lower bound, already exceeds it. Otherwise the result
+/// is SquaredDistanceToTriangle(x, a, b, c).
+///
+/// This is what makes queries from deep inside a closed surface affordable:
+/// there, many triangles are nearly equidistant, their boxes cannot be pruned,
+/// but the plane test rejects them at a fraction of the full cost. The test
+/// allows for its own rounding: the computed s = ap . n is within
+/// 11 eps |ap| |ab| |ac| of the exact value, which the margin below covers
+/// (using 2 e sqrt(B) <= 2^-20 B + 2^20 e^2 to avoid square roots).
+inline double SquaredDistanceToTriangle(
+  const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, double bound2)
+{
+  const detail::TriangleFrame f(a, b, c);
+  if (!f.degenerate)
+  {
+    const Vec3 ap = x - a;
+    const double s = ap.dot(f.n);
+    if (s * s > f.nn * bound2 * (1.0 + 0x1p-20) + 0x1p-76 * ap.squaredNorm() * f.ab2ac2)
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+  }
+  return detail::TriangleClosestPoint(x, a, b, c, f).squaredDistance;
 }
 } // namespace gridfree
 

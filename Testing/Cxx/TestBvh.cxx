@@ -1,0 +1,804 @@
+// Tests of the closest-point kernels and of the BVH against brute force.
+//
+// The BVH must return what a brute-force minimum over all primitives returns
+// (it evaluates the same kernels, so up to their last-bit rounding), for any
+// input a mesh file can hold: degenerate, duplicated and repeated-vertex
+// primitives included. Seeds are fixed, so failures are reproducible.
+#include "Geometry/BoundingBox.h"
+#include "Geometry/Bvh.h"
+#include "Geometry/ClosestPointPrimitives.h"
+#include "Vector.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+using gridfree::Bvh;
+using gridfree::ClosestPointOnSegment;
+using gridfree::ClosestPointOnTriangle;
+using gridfree::Vec;
+using gridfree::Vec2;
+using gridfree::Vec3;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <int DIM>
+struct Soup
+{
+  std::vector<Vec<DIM>> Vertices;
+  std::vector<typename Bvh<DIM>::Primitive> Primitives;
+};
+
+//------------------------------------------------------------------------------
+// Brute-force reference: the same kernels, minimized over every primitive.
+template <int DIM>
+gridfree::PrimitiveClosestPoint<DIM, DIM> KernelClosest(
+  const Soup<DIM>& soup, std::size_t p, const Vec<DIM>& x)
+{
+  const auto& prim = soup.Primitives[p];
+  if constexpr (DIM == 2)
+  {
+    return ClosestPointOnSegment<2>(x, soup.Vertices[prim[0]], soup.Vertices[prim[1]]);
+  }
+  else
+  {
+    return ClosestPointOnTriangle(
+      x, soup.Vertices[prim[0]], soup.Vertices[prim[1]], soup.Vertices[prim[2]]);
+  }
+}
+
+template <int DIM>
+double BruteForceSquaredDistance(const Soup<DIM>& soup, const Vec<DIM>& x)
+{
+  double best = kInf;
+  for (std::size_t p = 0; p < soup.Primitives.size(); ++p)
+  {
+    best = std::min(best, KernelClosest(soup, p, x).squaredDistance);
+  }
+  return best;
+}
+
+//------------------------------------------------------------------------------
+// Random soups: mostly regular primitives of widely varying sizes, some
+// sharing vertices like a mesh, mixed with degenerate and duplicated ones.
+template <int DIM>
+Soup<DIM> MakeSoup(int n, std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  auto uniformPoint = [&]()
+  {
+    Vec<DIM> p;
+    for (int k = 0; k < DIM; ++k)
+    {
+      p[k] = u01(rng);
+    }
+    return p;
+  };
+  auto pick = [&](std::size_t count) { return static_cast<std::int64_t>(rng() % count); };
+
+  Soup<DIM> soup;
+  auto addVertex = [&](const Vec<DIM>& v)
+  {
+    soup.Vertices.push_back(v);
+    return static_cast<std::int64_t>(soup.Vertices.size() - 1);
+  };
+  for (int i = 0; i < n; ++i)
+  {
+    typename Bvh<DIM>::Primitive prim;
+    const int kind = (i == 0) ? 9 : static_cast<int>(rng() % 12);
+    const Vec<DIM> center = uniformPoint();
+    const double size = std::pow(10.0, -3.0 + 2.5 * u01(rng));
+    auto nearby = [&]()
+    { return Vec<DIM>(center + size * (2.0 * uniformPoint() - Vec<DIM>::Ones())); };
+    switch (kind)
+    {
+      case 0: // repeated vertex index: zero length / zero area
+        prim[0] = addVertex(nearby());
+        for (int k = 1; k < DIM; ++k)
+        {
+          prim[k] = (k == DIM - 1 && DIM == 3) ? addVertex(nearby()) : prim[0];
+        }
+        break;
+      case 1: // all vertices identical (distinct indices, same coordinates)
+      {
+        const Vec<DIM> v = nearby();
+        for (int k = 0; k < DIM; ++k)
+        {
+          prim[k] = addVertex(v);
+        }
+        break;
+      }
+      case 2: // collinear: exactly (axis-aligned grid) or up to rounding
+      {
+        const Vec<DIM> a = nearby();
+        Vec<DIM> d = nearby() - a;
+        if (rng() % 2)
+        {
+          d = Vec<DIM>::Zero();
+          d[rng() % DIM] = 0.25 * size;
+        }
+        const double t = (rng() % 2) ? 2.0 : 0.3; // third vertex outside or inside
+        prim[0] = addVertex(a);
+        prim[1] = addVertex(a + d);
+        if constexpr (DIM == 3)
+        {
+          prim[2] = addVertex(a + t * d);
+        }
+        break;
+      }
+      case 3: // duplicate of an earlier primitive, possibly reordered
+        prim = soup.Primitives[pick(soup.Primitives.size())];
+        if (rng() % 2)
+        {
+          std::reverse(prim.begin(), prim.end());
+        }
+        break;
+      case 4: // duplicate coordinates under new vertex indices
+      {
+        const auto& other = soup.Primitives[pick(soup.Primitives.size())];
+        for (int k = 0; k < DIM; ++k)
+        {
+          prim[k] = addVertex(Vec<DIM>(soup.Vertices[other[k]]));
+        }
+        break;
+      }
+      case 5: // shares vertices with the mesh so far
+        for (int k = 0; k < DIM; ++k)
+        {
+          prim[k] = (rng() % 2) ? pick(soup.Vertices.size()) : addVertex(nearby());
+        }
+        break;
+      default: // regular primitive
+        for (int k = 0; k < DIM; ++k)
+        {
+          prim[k] = addVertex(nearby());
+        }
+        break;
+    }
+    soup.Primitives.push_back(prim);
+  }
+  return soup;
+}
+
+/// Queries inside the box, near the primitives (down to exactly on them) and
+/// far outside.
+template <int DIM>
+std::vector<Vec<DIM>> MakeQueries(const Soup<DIM>& soup, int perKind, std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> gauss;
+  gridfree::BoundingBox<DIM> box;
+  for (const auto& v : soup.Vertices)
+  {
+    box.Expand(v);
+  }
+  const double diag = std::max(box.Diagonal(), 1e-3);
+  auto direction = [&]()
+  {
+    Vec<DIM> d;
+    for (int k = 0; k < DIM; ++k)
+    {
+      d[k] = gauss(rng);
+    }
+    return Vec<DIM>(d.normalized());
+  };
+
+  std::vector<Vec<DIM>> queries;
+  for (int i = 0; i < perKind; ++i)
+  {
+    // Inside the (slightly enlarged) box.
+    Vec<DIM> q;
+    for (int k = 0; k < DIM; ++k)
+    {
+      q[k] = box.Min[k] - 0.05 * diag + (box.Max[k] - box.Min[k] + 0.1 * diag) * u01(rng);
+    }
+    queries.push_back(q);
+
+    // Near a random primitive: a point of it, offset by 0 to 1e-2 of the box.
+    const auto& prim = soup.Primitives[rng() % soup.Primitives.size()];
+    Vec<DIM> w;
+    for (int k = 0; k < DIM; ++k)
+    {
+      w[k] = u01(rng);
+    }
+    w /= w.sum();
+    Vec<DIM> p = Vec<DIM>::Zero();
+    for (int k = 0; k < DIM; ++k)
+    {
+      p += w[k] * soup.Vertices[prim[k]];
+    }
+    const int mode = i % 4;
+    if (mode == 0)
+    {
+      queries.push_back(soup.Vertices[prim[rng() % DIM]]); // exactly on a vertex
+    }
+    else
+    {
+      const double offset = (mode == 1) ? 0.0 : diag * std::pow(10.0, -10.0 + 8.0 * u01(rng));
+      queries.push_back(p + offset * direction());
+    }
+
+    // Far outside.
+    queries.push_back(box.Center() + diag * (2.0 + 100.0 * u01(rng)) * direction());
+  }
+  return queries;
+}
+
+//------------------------------------------------------------------------------
+/// Checks one query of a BVH against brute force.
+template <int DIM>
+void CheckQuery(const Bvh<DIM>& bvh, const Soup<DIM>& soup, const Vec<DIM>& x, double scale)
+{
+  const double ref2 = BruteForceSquaredDistance(soup, x);
+  const double ref = std::sqrt(ref2);
+  const double tol = 1e-12 * ref + 1e-14 * scale;
+
+  const double d = bvh.Distance(x);
+  ASSERT_NEAR(d, ref, tol) << "query " << x.transpose();
+  EXPECT_NEAR(bvh.SquaredDistance(x), ref2, (2.0 * ref + tol) * tol);
+
+  const gridfree::ClosestPointResult<DIM> r = bvh.ClosestPoint(x);
+  ASSERT_GE(r.primitive, 0);
+  ASSERT_LT(r.primitive, static_cast<std::int64_t>(soup.Primitives.size()));
+  EXPECT_NEAR(r.distance, ref, tol);
+  EXPECT_NEAR((x - r.point).norm(), r.distance, tol);
+
+  // The reported primitive (an ORIGINAL index) really holds the point.
+  const auto own = KernelClosest(soup, static_cast<std::size_t>(r.primitive), x);
+  EXPECT_NEAR(std::sqrt(own.squaredDistance), ref, tol);
+  EXPECT_LE((own.point - r.point).norm(), 1e-12 * scale);
+
+  // Up to ties, the point is the brute-force one: it must be the closest point
+  // of some primitive that achieves the minimum.
+  bool matched = false;
+  for (std::size_t p = 0; p < soup.Primitives.size() && !matched; ++p)
+  {
+    const auto c = KernelClosest(soup, p, x);
+    matched = std::abs(std::sqrt(c.squaredDistance) - ref) <= tol &&
+      (c.point - r.point).norm() <= 1e-12 * scale;
+  }
+  EXPECT_TRUE(matched) << "query " << x.transpose();
+
+  // Barycentric weights: in [0, 1], sum to 1, reproduce the point.
+  const auto& prim = soup.Primitives[r.primitive];
+  Vec<DIM> interpolated = Vec<DIM>::Zero();
+  for (int k = 0; k < DIM; ++k)
+  {
+    EXPECT_GE(r.barycentric[k], 0.0);
+    EXPECT_LE(r.barycentric[k], 1.0);
+    interpolated += r.barycentric[k] * soup.Vertices[prim[k]];
+  }
+  EXPECT_NEAR(r.barycentric.sum(), 1.0, 1e-12);
+  EXPECT_LE((interpolated - r.point).norm(), 1e-12 * scale);
+}
+
+template <int DIM>
+void CheckSoup(int n, std::uint64_t seed, int queriesPerKind)
+{
+  const Soup<DIM> soup = MakeSoup<DIM>(n, seed);
+  Bvh<DIM> bvh;
+  bvh.Build(soup.Vertices, soup.Primitives);
+  ASSERT_FALSE(bvh.Empty());
+  ASSERT_EQ(bvh.NumberOfPrimitives(), soup.Primitives.size());
+  ASSERT_TRUE(bvh.Validate());
+
+  gridfree::BoundingBox<DIM> box;
+  for (const auto& prim : soup.Primitives)
+  {
+    for (const auto v : prim)
+    {
+      box.Expand(soup.Vertices[v]);
+    }
+  }
+  EXPECT_EQ(bvh.Bounds().Min, box.Min);
+  EXPECT_EQ(bvh.Bounds().Max, box.Max);
+
+  const double scale = std::max(box.Diagonal(), 1.0);
+  for (const auto& x : MakeQueries(soup, queriesPerKind, seed + 1000))
+  {
+    CheckQuery(bvh, soup, x, scale + x.norm());
+    if (::testing::Test::HasFatalFailure())
+    {
+      return;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// Kernels on known configurations.
+TEST(ClosestPointPrimitives, SegmentRegions)
+{
+  const Vec2 a(0, 0), b(2, 0);
+  auto r = ClosestPointOnSegment<2>(Vec2(1, 1), a, b); // interior
+  EXPECT_DOUBLE_EQ(r.point.x(), 1.0);
+  EXPECT_DOUBLE_EQ(r.point.y(), 0.0);
+  EXPECT_DOUBLE_EQ(r.squaredDistance, 1.0);
+  EXPECT_DOUBLE_EQ(r.weights[0], 0.5);
+  EXPECT_DOUBLE_EQ(r.weights[1], 0.5);
+
+  r = ClosestPointOnSegment<2>(Vec2(-1, 1), a, b); // before a: exactly a
+  EXPECT_EQ(r.point, a);
+  EXPECT_EQ(r.weights, Vec2(1, 0));
+  EXPECT_DOUBLE_EQ(r.squaredDistance, 2.0);
+
+  r = ClosestPointOnSegment<2>(Vec2(5, -4), a, b); // after b: exactly b
+  EXPECT_EQ(r.point, b);
+  EXPECT_EQ(r.weights, Vec2(0, 1));
+  EXPECT_DOUBLE_EQ(r.squaredDistance, 25.0);
+
+  const auto r3 = ClosestPointOnSegment<3>(Vec3(1, 2, 3), Vec3(0, 0, 0), Vec3(0, 0, 4));
+  EXPECT_EQ(r3.point, Vec3(0, 0, 3));
+  EXPECT_DOUBLE_EQ(r3.weights[1], 0.75);
+  EXPECT_DOUBLE_EQ(r3.squaredDistance, 5.0);
+}
+
+TEST(ClosestPointPrimitives, ZeroLengthSegment)
+{
+  const Vec3 a(1, 1, 1);
+  const auto r = ClosestPointOnSegment<3>(Vec3(1, 1, 3), a, a);
+  EXPECT_EQ(r.point, a);
+  EXPECT_EQ(r.weights[0] + r.weights[1], 1.0);
+  EXPECT_DOUBLE_EQ(r.squaredDistance, 4.0);
+  EXPECT_EQ(gridfree::SquaredDistanceToSegment<3>(Vec3(1, 1, 3), a, a), 4.0);
+
+  // Tiny (underflowing) length: still the point, never NaN.
+  const Vec2 b(0, 0), c(1e-170, 0);
+  const auto t = ClosestPointOnSegment<2>(Vec2(3, 4), b, c);
+  EXPECT_FALSE(std::isnan(t.squaredDistance));
+  EXPECT_DOUBLE_EQ(t.squaredDistance, 25.0);
+}
+
+TEST(ClosestPointPrimitives, TriangleRegions)
+{
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  struct Case
+  {
+    Vec3 X, Point, Weights;
+  };
+  const Case cases[] = {
+    { Vec3(0.25, 0.25, 2), Vec3(0.25, 0.25, 0), Vec3(0.5, 0.25, 0.25) },  // face
+    { Vec3(0.25, 0.25, -3), Vec3(0.25, 0.25, 0), Vec3(0.5, 0.25, 0.25) }, // face, below
+    { Vec3(-1, -1, 1), a, Vec3(1, 0, 0) },                                // vertex a
+    { Vec3(3, -1, 0), b, Vec3(0, 1, 0) },                                 // vertex b
+    { Vec3(-0.5, 4, 1), c, Vec3(0, 0, 1) },                               // vertex c
+    { Vec3(0.5, -2, 1), Vec3(0.5, 0, 0), Vec3(0.5, 0.5, 0) },             // edge ab
+    { Vec3(-2, 0.25, 0), Vec3(0, 0.25, 0), Vec3(0.75, 0, 0.25) },         // edge ca
+    { Vec3(1, 1, 0.5), Vec3(0.5, 0.5, 0), Vec3(0, 0.5, 0.5) },            // edge bc
+    { Vec3(0, 0, 0), a, Vec3(1, 0, 0) },                                  // on a vertex
+  };
+  for (const auto& tc : cases)
+  {
+    const auto r = ClosestPointOnTriangle(tc.X, a, b, c);
+    EXPECT_LE((r.point - tc.Point).norm(), 1e-15) << tc.X.transpose();
+    EXPECT_LE((r.weights - tc.Weights).norm(), 1e-15) << tc.X.transpose();
+    EXPECT_NEAR(r.squaredDistance, (tc.X - tc.Point).squaredNorm(), 1e-15);
+    EXPECT_EQ(gridfree::SquaredDistanceToTriangle(tc.X, a, b, c), r.squaredDistance);
+  }
+}
+
+TEST(ClosestPointPrimitives, DegenerateTriangles)
+{
+  auto check = [](const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& expected)
+  {
+    const auto r = ClosestPointOnTriangle(x, a, b, c);
+    EXPECT_FALSE(r.point.hasNaN());
+    EXPECT_FALSE(r.weights.hasNaN());
+    EXPECT_LE((r.point - expected).norm(), 1e-14) << x.transpose();
+    EXPECT_NEAR(r.weights.sum(), 1.0, 1e-15);
+    EXPECT_GE(r.weights.minCoeff(), 0.0);
+    EXPECT_LE((r.weights[0] * a + r.weights[1] * b + r.weights[2] * c - r.point).norm(), 1e-14);
+  };
+  const Vec3 a(0, 0, 0), b(2, 0, 0), m(1, 0, 0), p(4, 0, 0);
+  // Collinear, third vertex between the others and beyond them.
+  check(Vec3(1.5, 1, 0), a, b, m, Vec3(1.5, 0, 0));
+  check(Vec3(3, 0, -1), a, b, p, Vec3(3, 0, 0));
+  check(Vec3(5, 1, 1), a, b, p, p);
+  check(Vec3(-1, 1, 0), m, b, a, a);
+  // Two identical vertices: a segment.
+  check(Vec3(1, 0, 2), a, a, b, Vec3(1, 0, 0));
+  check(Vec3(1, 0, 2), b, a, a, Vec3(1, 0, 0));
+  check(Vec3(1, 0, 2), a, b, a, Vec3(1, 0, 0));
+  // Three identical vertices: a point.
+  check(Vec3(1, 2, 3), m, m, m, m);
+  // Collinear up to rounding, far from the origin.
+  const Vec3 o(1e3, -2e3, 5e2), d(0.1, 0.7, 0.3);
+  check(o + d * 0.5 + Vec3(0.7, -0.1, 0).normalized(), o, o + d, o + d * 0.3, o + d * 0.5);
+}
+
+TEST(ClosestPointPrimitives, BoundedTriangleDistance)
+{
+  // The early-out version either returns the full kernel's value or +inf,
+  // and +inf only when the distance is not below the bound.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int skipped = 0;
+  for (int i = 0; i < 100000; ++i)
+  {
+    const Vec3 a(u(rng), u(rng), u(rng));
+    const Vec3 b = a + std::pow(10.0, -3.0 * std::abs(u(rng))) * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 c = (i % 10 == 0) ? Vec3(a + 0.5 * (b - a)) // degenerate
+                                 : Vec3(a + Vec3(u(rng), u(rng), u(rng)));
+    // Queries near the plane, exactly on it, or anywhere.
+    Vec3 x = Vec3(u(rng), u(rng), u(rng));
+    if (i % 3 == 0)
+    {
+      x = a + 0.3 * (b - a) + 0.2 * (c - a) + 1e-12 * u(rng) * (b - a).cross(c - a);
+    }
+    const double full = gridfree::SquaredDistanceToTriangle(x, a, b, c);
+    // Bounds straddling the true value, down to relative differences ~1e-15,
+    // or well below it.
+    const double bound = (i % 4 == 3)
+      ? full * std::abs(u(rng))
+      : full * (1.0 + std::pow(10.0, -15.0 + 14.0 * std::abs(u(rng))) * ((i % 2) ? 1.0 : -1.0));
+    const double bounded = gridfree::SquaredDistanceToTriangle(x, a, b, c, bound);
+    if (bounded == kInf)
+    {
+      ++skipped;
+      EXPECT_GE(full, bound * (1.0 - 1e-12) - 1e-30) << i;
+    }
+    else
+    {
+      EXPECT_EQ(bounded, full) << i;
+    }
+    EXPECT_EQ(gridfree::SquaredDistanceToTriangle(x, a, b, c, kInf), full);
+  }
+  EXPECT_GT(skipped, 1000); // the early out does happen
+}
+
+TEST(ClosestPointPrimitives, ThinTrianglesAreAccurate)
+{
+  // Slivers down to ~1e-7 aspect ratio: compare with a long double reference
+  // (projection when inside, else the best edge).
+  using LVec = Eigen::Matrix<long double, 3, 1>;
+  auto segment = [](const LVec& x, const LVec& a, const LVec& b)
+  {
+    const LVec ab = b - a;
+    const long double len2 = ab.squaredNorm();
+    long double t = len2 > 0 ? ab.dot(x - a) / len2 : 0;
+    t = std::min<long double>(std::max<long double>(t, 0), 1);
+    return (x - (a + t * ab)).squaredNorm();
+  };
+  auto reference = [&](const LVec& x, const LVec& a, const LVec& b, const LVec& c)
+  {
+    const LVec n = (b - a).cross(c - a);
+    const long double nn = n.squaredNorm();
+    const LVec p = x - n * (n.dot(x - a) / nn);
+    const long double u = n.dot((c - b).cross(p - b)) / nn;
+    const long double v = n.dot((a - c).cross(p - c)) / nn;
+    const long double w = n.dot((b - a).cross(p - a)) / nn;
+    if (u >= 0 && v >= 0 && w >= 0)
+    {
+      return (x - p).squaredNorm();
+    }
+    return std::min({ segment(x, a, b), segment(x, b, c), segment(x, c, a) });
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 20000; ++i)
+  {
+    const Vec3 a(u(rng), u(rng), u(rng));
+    const Vec3 b(u(rng), u(rng), u(rng));
+    const double thinness = std::pow(10.0, -7.0 * (0.5 + 0.5 * u(rng)));
+    const Vec3 c =
+      0.5 * (a + b) + thinness * Vec3(u(rng), u(rng), u(rng)) + (0.3 * u(rng)) * (b - a);
+    const Vec3 x = Vec3(u(rng), u(rng), u(rng)) * ((i % 3 == 0) ? 1e-3 : 1.0) +
+      ((i % 3 == 0) ? Vec3(0.5 * (a + b)) : Vec3::Zero());
+    const double d = std::sqrt(ClosestPointOnTriangle(x, a, b, c).squaredDistance);
+    const double ref = std::sqrt(static_cast<double>(reference(
+      x.cast<long double>(), a.cast<long double>(), b.cast<long double>(), c.cast<long double>())));
+    ASSERT_NEAR(d, ref, 1e-9) << i;
+  }
+}
+
+//------------------------------------------------------------------------------
+// BVH against brute force.
+TEST(Bvh, EmptyHierarchy)
+{
+  Bvh<3> bvh;
+  EXPECT_TRUE(bvh.Empty());
+  EXPECT_EQ(bvh.NumberOfPrimitives(), 0u);
+  EXPECT_EQ(bvh.Distance(Vec3(1, 2, 3)), kInf);
+  auto r = bvh.ClosestPoint(Vec3(1, 2, 3));
+  EXPECT_EQ(r.primitive, -1);
+  EXPECT_EQ(r.distance, kInf);
+  EXPECT_TRUE(bvh.Validate());
+
+  bvh.Build({ Vec3(0, 0, 0) }, {}); // vertices but no primitive
+  EXPECT_TRUE(bvh.Empty());
+  EXPECT_EQ(bvh.Distance(Vec3(0, 0, 0)), kInf);
+  EXPECT_TRUE(bvh.Bounds().IsEmpty());
+
+  Bvh<2> bvh2;
+  EXPECT_EQ(bvh2.Distance(Vec2(0, 0)), kInf);
+  EXPECT_EQ(bvh2.ClosestPoint(Vec2(0, 0)).primitive, -1);
+}
+
+TEST(Bvh, RejectsInvalidIndices)
+{
+  Bvh<3> bvh;
+  const std::vector<Vec3> v = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) };
+  EXPECT_THROW(bvh.Build(v, { { 0, 1, 3 } }), std::out_of_range);
+  EXPECT_THROW(bvh.Build(v, { { 0, -1, 2 } }), std::out_of_range);
+}
+
+TEST(Bvh, ReportsOriginalPrimitiveIndices)
+{
+  // A row of unit triangles along x, given in shuffled order: the one under a
+  // query must be reported by its index in the input array.
+  std::vector<Vec3> v;
+  std::vector<Bvh<3>::Primitive> t;
+  std::vector<int> slot(500);
+  for (int i = 0; i < 500; ++i)
+  {
+    slot[i] = (i * 263) % 500; // a permutation of positions
+  }
+  for (int i = 0; i < 500; ++i)
+  {
+    const double x0 = 2.0 * slot[i];
+    v.emplace_back(x0, 0, 0);
+    v.emplace_back(x0 + 1, 0, 0);
+    v.emplace_back(x0, 1, 0);
+    const auto base = static_cast<std::int64_t>(v.size()) - 3;
+    t.push_back({ base, base + 1, base + 2 });
+  }
+  Bvh<3> bvh;
+  bvh.Build(v, t);
+  for (int i = 0; i < 500; ++i)
+  {
+    const Vec3 q(2.0 * slot[i] + 0.25, 0.25, 0.5);
+    const auto r = bvh.ClosestPoint(q);
+    ASSERT_EQ(r.primitive, i);
+    EXPECT_DOUBLE_EQ(r.distance, 0.5);
+    EXPECT_NEAR(r.barycentric[0], 0.5, 1e-15);
+    EXPECT_NEAR(r.barycentric[1], 0.25, 1e-15);
+    EXPECT_NEAR(r.barycentric[2], 0.25, 1e-15);
+  }
+}
+
+TEST(Bvh, SinglePrimitiveAndRebuild)
+{
+  Bvh<3> bvh;
+  bvh.Build({ Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0) }, { { 0, 1, 2 } });
+  EXPECT_EQ(bvh.NumberOfPrimitives(), 1u);
+  EXPECT_DOUBLE_EQ(bvh.Distance(Vec3(0.2, 0.2, -2)), 2.0);
+  // Rebuilding replaces the content.
+  bvh.Build({ Vec3(5, 5, 5), Vec3(6, 5, 5), Vec3(5, 6, 5), Vec3(0, 0, 9) }, { { 3, 3, 3 } });
+  EXPECT_EQ(bvh.NumberOfPrimitives(), 1u);
+  EXPECT_DOUBLE_EQ(bvh.Distance(Vec3(0, 0, 0)), 9.0);
+  EXPECT_EQ(bvh.Bounds().Min, Vec3(0, 0, 9));
+  EXPECT_EQ(bvh.ClosestPoint(Vec3(0, 0, 0)).primitive, 0);
+}
+
+TEST(Bvh, TriangleSoups)
+{
+  std::uint64_t seed = 11;
+  for (const int n : { 1, 2, 7, 1000, 20000 })
+  {
+    SCOPED_TRACE(n);
+    CheckSoup<3>(n, seed++, n < 1000 ? 200 : 120);
+  }
+}
+
+TEST(Bvh, SegmentSoups)
+{
+  std::uint64_t seed = 21;
+  for (const int n : { 1, 2, 7, 1000, 20000 })
+  {
+    SCOPED_TRACE(n);
+    CheckSoup<2>(n, seed++, n < 1000 ? 200 : 120);
+  }
+}
+
+TEST(Bvh, FlatAndOffsetGeometry)
+{
+  // Boxes with zero extent along an axis, far from the origin, stress the
+  // outward rounding of the compressed node boxes.
+  Soup<3> soup = MakeSoup<3>(3000, 99);
+  for (auto& v : soup.Vertices)
+  {
+    v = Vec3(1e6 + v.x(), -3e5 + 1e-3 * v.y(), 7.0); // flat in z, thin in y
+  }
+  Bvh<3> bvh;
+  bvh.Build(soup.Vertices, soup.Primitives);
+  ASSERT_TRUE(bvh.Validate());
+  const double scale = 2e6;
+  for (const auto& x : MakeQueries(soup, 60, 5))
+  {
+    CheckQuery(bvh, soup, x, scale);
+    ASSERT_FALSE(HasFatalFailure());
+  }
+
+  Soup<2> soup2 = MakeSoup<2>(3000, 98);
+  for (auto& v : soup2.Vertices)
+  {
+    v = Vec2(-4e7 + v.x(), 1.5); // all segments on one horizontal line
+  }
+  Bvh<2> bvh2;
+  bvh2.Build(soup2.Vertices, soup2.Primitives);
+  ASSERT_TRUE(bvh2.Validate());
+  for (const auto& x : MakeQueries(soup2, 60, 6))
+  {
+    CheckQuery(bvh2, soup2, x, 1e8);
+    ASSERT_FALSE(HasFatalFailure());
+  }
+}
+
+template <int DIM>
+void CheckNearTies(std::uint64_t seed)
+{
+  // Tiny primitives tangent to the unit sphere around q, at distances
+  // 1 + i * 1e-12 in random directions. Their boxes are far tighter than float
+  // precision, so any box bound that is not a true lower bound prunes the
+  // winner (index 0) and fails the test.
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss;
+  const Vec<DIM> q = Vec<DIM>::Constant(0.3) + Vec<DIM>::Unit(0) * 123.0;
+  const int n = 3000;
+  Soup<DIM> soup;
+  for (int i = 0; i < n; ++i)
+  {
+    Vec<DIM> u;
+    for (int k = 0; k < DIM; ++k)
+    {
+      u[k] = gauss(rng);
+    }
+    u.normalize();
+    const Vec<DIM> c = q + (1.0 + i * 1e-12) * u;
+    // Unit vectors spanning the tangent plane.
+    Vec<DIM> e1 = Vec<DIM>::Unit(std::abs(u[0]) < 0.5 ? 0 : 1);
+    e1 = (e1 - e1.dot(u) * u).normalized();
+    typename Bvh<DIM>::Primitive prim;
+    const double s = 1e-7;
+    if constexpr (DIM == 2)
+    {
+      soup.Vertices.push_back(c - s * e1);
+      soup.Vertices.push_back(c + s * e1);
+    }
+    else
+    {
+      const Vec3 e2 = u.cross(e1);
+      for (int k = 0; k < 3; ++k)
+      {
+        const double angle = 2.0 * std::acos(-1.0) * k / 3.0;
+        soup.Vertices.push_back(c + s * (std::cos(angle) * e1 + std::sin(angle) * e2));
+      }
+    }
+    for (int k = 0; k < DIM; ++k)
+    {
+      prim[k] = static_cast<std::int64_t>(soup.Vertices.size()) - DIM + k;
+    }
+    soup.Primitives.push_back(prim);
+  }
+  // Shuffle so that the winner is not first in the input.
+  std::vector<std::int64_t> perm(n);
+  for (int i = 0; i < n; ++i)
+  {
+    perm[i] = i;
+  }
+  std::shuffle(perm.begin(), perm.end(), rng);
+  Soup<DIM> shuffled{ soup.Vertices, {} };
+  for (int i = 0; i < n; ++i)
+  {
+    shuffled.Primitives.push_back(soup.Primitives[perm[i]]);
+  }
+  const auto winner = std::find(perm.begin(), perm.end(), 0) - perm.begin();
+
+  Bvh<DIM> bvh;
+  bvh.Build(shuffled.Vertices, shuffled.Primitives);
+  ASSERT_TRUE(bvh.Validate());
+  const auto r = bvh.ClosestPoint(q);
+  EXPECT_EQ(r.primitive, winner);
+  EXPECT_NEAR(r.distance, 1.0, 1e-13);
+  EXPECT_EQ(bvh.Distance(q), r.distance);
+  CheckQuery(bvh, shuffled, q, 200.0);
+}
+
+template <int DIM>
+void CheckTightClusters(std::uint64_t seed)
+{
+  // Clusters of tiny primitives (1e-3 down to 1e-12 across) spread over
+  // [-1000, 1000]: deep nodes are far smaller than a float ulp of their
+  // position, where the outward rounding of the node boxes is most delicate.
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto randomPoint = [&]()
+  {
+    Vec<DIM> p;
+    for (int k = 0; k < DIM; ++k)
+    {
+      p[k] = u(rng);
+    }
+    return p;
+  };
+  Soup<DIM> soup;
+  for (int cluster = 0; cluster < 400; ++cluster)
+  {
+    const Vec<DIM> center = 1000.0 * randomPoint();
+    const double size = std::pow(10.0, -7.5 + 4.5 * u(rng));
+    for (int i = 0; i < 10; ++i)
+    {
+      typename Bvh<DIM>::Primitive prim;
+      for (int k = 0; k < DIM; ++k)
+      {
+        soup.Vertices.push_back(center + size * randomPoint());
+        prim[k] = static_cast<std::int64_t>(soup.Vertices.size()) - 1;
+      }
+      soup.Primitives.push_back(prim);
+    }
+  }
+  Bvh<DIM> bvh;
+  bvh.Build(soup.Vertices, soup.Primitives);
+  ASSERT_TRUE(bvh.Validate());
+  for (int i = 0; i < 100; ++i)
+  {
+    // Right next to a cluster, where its tight boxes decide the answer.
+    const auto& prim = soup.Primitives[rng() % soup.Primitives.size()];
+    const Vec<DIM> x = soup.Vertices[prim[0]] + 1e-9 * randomPoint();
+    CheckQuery(bvh, soup, x, 2000.0);
+    ASSERT_FALSE(::testing::Test::HasFatalFailure());
+  }
+}
+
+TEST(Bvh, TightClusters)
+{
+  CheckTightClusters<3>(31);
+  CheckTightClusters<2>(32);
+}
+
+TEST(Bvh, NearTiesAreResolvedExactly)
+{
+  CheckNearTies<3>(1);
+  CheckNearTies<2>(2);
+}
+
+TEST(Bvh, ClosedSurface)
+{
+  // A closed, regular surface (octahedron refined to 8 * 4^5 triangles, on the
+  // unit sphere): the typical walk-on-spheres boundary, queried inside.
+  std::vector<Vec3> v = { Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0),
+    Vec3(0, 0, 1), Vec3(0, 0, -1) };
+  std::vector<Bvh<3>::Primitive> t = { { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 },
+    { 2, 0, 5 }, { 1, 2, 5 }, { 3, 1, 5 }, { 0, 3, 5 } };
+  for (int level = 0; level < 5; ++level)
+  {
+    std::vector<Bvh<3>::Primitive> refined;
+    for (const auto& f : t)
+    {
+      std::int64_t m[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        v.push_back((0.5 * (v[f[k]] + v[f[(k + 1) % 3]])).normalized());
+        m[k] = static_cast<std::int64_t>(v.size()) - 1; // duplicated midpoints are fine
+      }
+      refined.push_back({ f[0], m[0], m[2] });
+      refined.push_back({ f[1], m[1], m[0] });
+      refined.push_back({ f[2], m[2], m[1] });
+      refined.push_back({ m[0], m[1], m[2] });
+    }
+    t.swap(refined);
+  }
+  Soup<3> soup{ v, t };
+  Bvh<3> bvh;
+  bvh.Build(v, t);
+  ASSERT_TRUE(bvh.Validate());
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 300; ++i)
+  {
+    CheckQuery(bvh, soup, Vec3(u(rng), u(rng), u(rng)), 2.0);
+    ASSERT_FALSE(HasFatalFailure());
+  }
+  CheckQuery(bvh, soup, Vec3(0, 0, 0), 2.0); // equidistant from everything
+}
+} // namespace
