@@ -86,8 +86,9 @@ def main():
     layout = CreateLayout("GridFree demo")
     layout.SplitHorizontal(0, 0.5)
     center = [0.5 * (xmin + xmax), 0.5 * (ymin + ymax), zmid]
-    for cell, (array, preset) in zip((1, 2), [("T", "Inferno (matplotlib)"),
-                                               ("T_Variance", "Viridis (matplotlib)")]):
+    panels = [("T", "Inferno (matplotlib)", "T"),
+              ("T_Variance", "Viridis (matplotlib)", "Var[T]")]
+    for cell, (array, preset, title) in zip((1, 2), panels):
         view = CreateView("RenderView")
         layout.AssignView(cell, view)
         view.OrientationAxesVisibility = 0
@@ -99,8 +100,14 @@ def main():
         slice_display.SetScalarBarVisibility(view, True)
         bar = GetScalarBar(lut, view)
         bar.WindowLocation = "Any Location"
-        bar.Position = [0.80, 0.1]
+        bar.Position = [0.78, 0.1]
         bar.ScalarBarLength = 0.8
+        bar.Title = title
+        bar.HorizontalTitle = 1
+        bar.ComponentTitle = ""
+        bar.AutomaticLabelFormat = 0
+        bar.LabelFormat = "%-#.3g"
+        bar.RangeLabelFormat = "%-#.3g"
         outline = Show(contour, view)
         outline.AmbientColor = outline.DiffuseColor = [1.0, 1.0, 1.0]
         outline.LineWidth = 2.0

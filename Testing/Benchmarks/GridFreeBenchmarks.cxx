@@ -143,8 +143,15 @@ double RatePerSecond(std::size_t count, int threads, Body body)
 void Row(const std::string& mesh, const std::string& what, double ours1, double oursN,
   double vtk1)
 {
+  if (vtk1 <= 0.0)
+  {
+    // No VTK counterpart (walks): leave its columns empty.
+    std::printf("| %-26s | %-34s | %12.0f | %12.0f | %12s | %8s |\n", mesh.c_str(), what.c_str(),
+      ours1, oursN, "-", "-");
+    return;
+  }
   std::printf("| %-26s | %-34s | %12.0f | %12.0f | %12.0f | %7.1fx |\n", mesh.c_str(), what.c_str(),
-    ours1, oursN, vtk1, vtk1 > 0 ? ours1 / vtk1 : 0.0);
+    ours1, oursN, vtk1, ours1 / vtk1);
 }
 } // namespace
 
@@ -275,8 +282,8 @@ int main(int argc, char* argv[])
     std::snprintf(what, sizeof(what), "walks/s (%.1f steps/walk)",
       double(totalSteps) / (double(starts.size()) * walksPerPoint));
     Row(mesh.Name, what, w1, wN, 0.0);
-    std::printf("| %-26s | build: ours %.3f s, vtkStaticCellLocator %.3f s %37s|\n",
-      mesh.Name.c_str(), buildSeconds, locatorSeconds, "");
+    std::printf("| %-26s | build (s): ours %.3f, VTK %.3f     | %12s | %12s | %12s | %8s |\n",
+      mesh.Name.c_str(), buildSeconds, locatorSeconds, "", "", "", "");
   }
   return 0;
 }
