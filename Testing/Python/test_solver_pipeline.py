@@ -169,3 +169,41 @@ def test_progress_is_reported_and_abort_is_prompt():
     assert "aborted" in catcher.warning_text()
     values = solver.GetOutput().GetPointData().GetArray("T")
     assert any(math.isnan(values.GetTuple1(i)) for i in range(values.GetNumberOfTuples()))
+
+
+def test_polygons_and_strips_are_triangulated():
+    """A cube made of quads, and the same cube as triangle strips: a linear g
+    is reproduced exactly by the boundary interpolation, so only Monte Carlo
+    error remains."""
+    from vtkmodules.vtkFiltersCore import vtkStripper, vtkTriangleFilter
+    from vtkmodules.vtkFiltersSources import vtkCubeSource
+    from gridfree_testing import add_point_array
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+    def linear(x, y, z=0.0):
+        return 1.0 + x + 2.0 * y - 3.0 * z
+
+    cube = vtkCubeSource()
+    cube.SetXLength(2.0)
+    cube.SetYLength(2.0)
+    cube.SetZLength(2.0)
+    cube.Update()
+    quads = vtkPolyData()
+    quads.DeepCopy(cube.GetOutput())
+    assert quads.GetCell(0).GetNumberOfPoints() == 4
+    add_point_array(quads, "T", linear)
+
+    triangles = vtkTriangleFilter()
+    triangles.SetInputData(quads)
+    strips = vtkStripper()
+    strips.SetInputConnection(triangles.GetOutputPort())
+    strips.Update()
+    stripped = strips.GetOutput()
+    assert stripped.GetNumberOfStrips() > 0
+
+    probe = plane((-0.7, -0.7, 0.3), (0.7, -0.7, 0.3), (-0.7, 0.7, 0.3), 6)
+    for boundary in (quads, stripped):
+        solver = solver_for(boundary, probe.GetOutputPort(), walks=256)
+        solver.Update()
+        scores = z_scores(solver.GetOutput(), linear)
+        assert max(abs(z) for z in scores) < 5.0
