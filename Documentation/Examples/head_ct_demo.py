@@ -76,7 +76,10 @@ def main():
     print(f"walks per second: {walks / seconds:.0f}")
     sys.stdout.flush()
 
-    SaveData(os.path.join(args.output, "head_slice.vtp"), proxy=solver)
+    # Inline (base64) binary rather than VTK's default appended raw data: Debian
+    # 12's patched expat makes ParaView 5.11 reject appended raw data on reading.
+    SaveData(os.path.join(args.output, "head_slice.vtp"), proxy=solver,
+             DataMode="Binary", CompressorType="ZLib")
 
     # Solution and variance side by side, each with the skin's cross-section.
     contour = Slice(Input=skin)
