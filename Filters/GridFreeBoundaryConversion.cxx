@@ -188,6 +188,23 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
     return false;
   }
 
+  // A non-finite vertex would make every distance query meaningless.
+  std::vector<Vec<DIM>> vertices = ConvertPoints<DIM>(boundary->GetPoints());
+  long long nonFinite = 0;
+  for (const Primitive& p : primitives)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      nonFinite += vertices[p[k]].allFinite() ? 0 : 1;
+    }
+  }
+  if (nonFinite > 0)
+  {
+    reason = "its cells use points with NaN or infinite coordinates (" +
+      std::to_string(nonFinite) + " uses)";
+    return false;
+  }
+
   const int nc = values->GetNumberOfComponents();
   std::vector<double> flat;
   if (cellData)
@@ -206,7 +223,7 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   {
     flat = FlattenValues(values, boundary->GetNumberOfPoints());
   }
-  out.Set(ConvertPoints<DIM>(boundary->GetPoints()), std::move(primitives),
+  out.Set(std::move(vertices), std::move(primitives),
     cellData ? ValueAssociation::Cells : ValueAssociation::Points, nc, std::move(flat));
   return true;
 }

@@ -121,3 +121,10 @@ def test_bad_property_values_are_clamped():
     assert solver.GetEpsilon() == 0.0
     solver.SetNumberOfThreads(-3)
     assert solver.GetNumberOfThreads() == 0
+
+
+def test_nan_boundary_coordinates():
+    boundary = sphere_boundary(resolution=16)
+    boundary.GetPoints().SetPoint(3, float("nan"), 0.0, 0.0)
+    _, catcher = run(boundary=boundary)
+    assert "NaN or infinite coordinates" in catcher.error_text()
