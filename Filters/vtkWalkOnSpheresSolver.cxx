@@ -1,6 +1,7 @@
 #include "vtkWalkOnSpheresSolver.h"
 
 #include "GridFreeBoundaryConversion.h"
+#include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
 #include "WalkOnSpheres.h"
@@ -27,6 +28,8 @@
 #include <array>
 #include <chrono>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <sstream>
 #include <vector>
 
@@ -36,6 +39,7 @@ namespace
 {
 constexpr int BoundaryPort = 0;
 constexpr int ProbePort = 1;
+constexpr int SourcePort = 2;
 
 vtkSmartPointer<vtkDoubleArray> MakeArray(const std::string& name, int components, vtkIdType tuples)
 {
@@ -58,6 +62,20 @@ void AddFieldValue(vtkFieldData* fd, const char* name, double value)
 }
 } // namespace
 
+// Everything RequestData resolved from the inputs, handed to the runner.
+struct vtkWalkOnSpheresSolverInputs
+{
+  vtkPolyData* Boundary = nullptr;
+  vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
+  bool CellData = false;
+  vtkDataSet* Source = nullptr;
+  vtkDataArray* SourceArray = nullptr;
+  std::string Expression;
+  vtkDataSet* Probe = nullptr;
+  vtkDataSet* Output = nullptr;
+  std::string Name;
+};
+
 // Runs the estimator of one dimension over the probe points and fills the
 // output arrays. Lives here, not in the core, because it moves data between
 // VTK arrays and the core's plain types.
@@ -65,13 +83,12 @@ template <int DIM>
 class vtkWalkOnSpheresSolverRunner
 {
 public:
-  static bool Run(vtkWalkOnSpheresSolver* self, vtkPolyData* boundary, vtkDataArray* values,
-    bool cellData, vtkDataSet* probe, vtkDataSet* output, const std::string& name)
+  static bool Run(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in)
   {
     gridfree::Boundary<DIM> geometry;
     gridfree::BoundaryConversionReport report;
     std::string reason;
-    if (!gridfree::ConvertBoundary<DIM>(boundary, values, cellData, geometry, report, reason))
+    if (!gridfree::ConvertBoundary<DIM>(in.Boundary, in.Values, in.CellData, geometry, report, reason))
     {
       vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
       return false;
@@ -99,37 +116,79 @@ public:
       return false;
     }
     settings.MaxSteps = self->MaxSteps;
+    settings.Problem = static_cast<gridfree::Equation>(self->Equation);
+    settings.ScreeningCoefficient = self->ScreeningCoefficient;
+    settings.Sampling = static_cast<gridfree::SourceSampling>(self->SourceSampling);
+    settings.Biharmonic = static_cast<gridfree::BiharmonicStrategy>(self->BiharmonicStrategy);
+    settings.NestedWalks = self->NestedWalks;
 
-    const vtkIdType numPoints = probe->GetNumberOfPoints();
-    const int nc = geometry.Components();
+    const bool biharmonic = settings.Problem == gridfree::Equation::Biharmonic;
+    const int nc = biharmonic ? geometry.Components() / 2 : geometry.Components();
+
+    // Sources (only for the equations that have them; RequestData warned otherwise).
+    gridfree::SourceDescription<DIM> sources;
+    if (gridfree::WalkOnSpheresEstimator<DIM>::UsesSources(settings.Problem))
+    {
+      double bounds[6];
+      in.Boundary->GetBounds(bounds);
+      if (!gridfree::ConvertSource<DIM>(
+            in.Source, in.SourceArray, in.Expression, nc, bounds[4], sources, reason))
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use the source term: " << reason << ".");
+        return false;
+      }
+      if (sources.IgnoredSurfaceCells > 0)
+      {
+        vtkWarningWithObjectMacro(self, << "Ignored " << sources.IgnoredSurfaceCells
+                                        << " polygons of the Source input: a vtkPolyData source "
+                                           "gives point sources (vertices) and curve sources "
+                                           "(lines) only.");
+      }
+    }
+    const gridfree::ConcentratedSourceSet<DIM> concentrated = sources.Concentrated();
+
+    const vtkIdType numPoints = in.Probe->GetNumberOfPoints();
     std::vector<std::array<double, 3>> points(static_cast<std::size_t>(numPoints));
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
-      probe->GetPoint(i, points[i].data());
+      in.Probe->GetPoint(i, points[i].data());
     }
 
-    auto mean = MakeArray(name, nc, numPoints);
-    auto variance = MakeArray(name + "_Variance", nc, numPoints);
+    const int outputComponents = biharmonic ? 2 * nc : nc;
+    auto mean = MakeArray(in.Name, nc, numPoints);
+    auto variance = MakeArray(in.Name + "_Variance", nc, numPoints);
+    vtkSmartPointer<vtkDoubleArray> laplacian, laplacianVariance;
+    if (biharmonic)
+    {
+      laplacian = MakeArray(in.Name + "_Laplacian", nc, numPoints);
+      laplacianVariance = MakeArray(in.Name + "_Laplacian_Variance", nc, numPoints);
+    }
     auto steps = MakeArray("WalkSteps", 1, numPoints);
     auto escaped = MakeArray("EscapedFraction", 1, numPoints);
     auto truncated = MakeArray("TruncatedFraction", 1, numPoints);
     double* meanPtr = mean->GetPointer(0);
     double* variancePtr = variance->GetPointer(0);
+    double* laplacianPtr = biharmonic ? laplacian->GetPointer(0) : nullptr;
+    double* laplacianVariancePtr = biharmonic ? laplacianVariance->GetPointer(0) : nullptr;
     double* stepsPtr = steps->GetPointer(0);
     double* escapedPtr = escaped->GetPointer(0);
     double* truncatedPtr = truncated->GetPointer(0);
 
     const int walks = self->WalksPerPoint;
     const std::uint64_t seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(self->Seed));
-    std::atomic<std::uint64_t> totalSteps{ 0 }, totalEscaped{ 0 }, totalTruncated{ 0 },
-      totalWalks{ 0 };
+    std::mutex totalsMutex;
+    gridfree::WalkCounters totals;
+    bool unboundedSource = false;
 
     const auto start = std::chrono::steady_clock::now();
     const bool completed = gridfree::ParallelForWithProgress(
       static_cast<std::size_t>(numPoints), self->NumberOfThreads,
       [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
-        gridfree::LaplaceWalkOnSpheres<DIM> estimator(geometry, settings);
-        gridfree::RunningStatistics stats(nc);
+        std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
+          sources.MakeVolume ? sources.MakeVolume() : nullptr;
+        gridfree::WalkOnSpheresEstimator<DIM> estimator(
+          geometry, settings, volume.get(), concentrated);
+        gridfree::RunningStatistics stats(outputComponents);
         gridfree::WalkCounters sum;
         for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
         {
@@ -141,18 +200,22 @@ public:
             meanPtr[i * nc + c] = stats.GetMean(c);
             variancePtr[i * nc + c] = stats.VarianceOfMean(c);
           }
+          if (biharmonic)
+          {
+            for (int c = 0; c < nc; ++c)
+            {
+              laplacianPtr[i * nc + c] = stats.GetMean(nc + c);
+              laplacianVariancePtr[i * nc + c] = stats.VarianceOfMean(nc + c);
+            }
+          }
           stepsPtr[i] = counters.MeanSteps();
           escapedPtr[i] = counters.EscapedFraction();
           truncatedPtr[i] = counters.TruncatedFraction();
-          sum.Walks += counters.Walks;
-          sum.Steps += counters.Steps;
-          sum.Escaped += counters.Escaped;
-          sum.Truncated += counters.Truncated;
+          sum.Add(counters);
         }
-        totalWalks += sum.Walks;
-        totalSteps += sum.Steps;
-        totalEscaped += sum.Escaped;
-        totalTruncated += sum.Truncated;
+        std::lock_guard<std::mutex> lock(totalsMutex);
+        totals.Add(sum);
+        unboundedSource = unboundedSource || !estimator.SourceSupportIsBounded();
       },
       [self](double fraction) {
         self->UpdateProgress(fraction);
@@ -161,23 +224,28 @@ public:
     const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    self->LastNumberOfWalks = static_cast<vtkIdType>(totalWalks.load());
+    self->LastNumberOfWalks = static_cast<vtkIdType>(totals.Walks);
     self->LastSolveSeconds = seconds;
     self->LastDimension = DIM;
 
-    vtkPointData* pd = output->GetPointData();
+    vtkPointData* pd = in.Output->GetPointData();
     pd->AddArray(mean);
     pd->AddArray(variance);
+    if (biharmonic)
+    {
+      pd->AddArray(laplacian);
+      pd->AddArray(laplacianVariance);
+    }
     pd->AddArray(steps);
     pd->AddArray(escaped);
     pd->AddArray(truncated);
     pd->SetActiveScalars(mean->GetName());
 
-    vtkFieldData* fd = output->GetFieldData();
-    AddFieldValue(fd, "TotalWalks", static_cast<double>(totalWalks.load()));
-    AddFieldValue(fd, "TotalSteps", static_cast<double>(totalSteps.load()));
-    AddFieldValue(fd, "EscapedWalks", static_cast<double>(totalEscaped.load()));
-    AddFieldValue(fd, "TruncatedWalks", static_cast<double>(totalTruncated.load()));
+    vtkFieldData* fd = in.Output->GetFieldData();
+    AddFieldValue(fd, "TotalWalks", static_cast<double>(totals.Walks));
+    AddFieldValue(fd, "TotalSteps", static_cast<double>(totals.Steps));
+    AddFieldValue(fd, "EscapedWalks", static_cast<double>(totals.Escaped));
+    AddFieldValue(fd, "TruncatedWalks", static_cast<double>(totals.Truncated));
     AddFieldValue(fd, "SolveSeconds", seconds);
 
     if (!completed)
@@ -185,15 +253,22 @@ public:
       vtkWarningWithObjectMacro(self, << "Solve aborted: points not reached are NaN.");
       return true;
     }
-    if (totalEscaped > 0)
+    if (totals.Escaped > 0 && biharmonic)
     {
-      vtkWarningWithObjectMacro(self, << totalEscaped.load() << " of " << totalWalks.load()
-                                      << " walks left the region enclosed by the boundary and "
-                                         "were counted as 0 (see EscapedFraction).");
+      vtkWarningWithObjectMacro(self, << totals.Escaped << " of " << totals.Walks
+                                      << " biharmonic walks left the region enclosed by the "
+                                         "boundary and were counted as 0 (see EscapedFraction): "
+                                         "the biharmonic solver is for bounded domains.");
     }
-    if (totalTruncated > 0)
+    if (unboundedSource && (totals.Escaped > 0 || totals.Returns > 0))
     {
-      vtkWarningWithObjectMacro(self, << totalTruncated.load() << " of " << totalWalks.load()
+      vtkWarningWithObjectMacro(self, << "Walks reached the exterior region, where the "
+                                         "SourceExpression is taken as zero beyond a sphere "
+                                         "around the boundary and the Source input.");
+    }
+    if (totals.Truncated > 0)
+    {
+      vtkWarningWithObjectMacro(self, << totals.Truncated << " of " << totals.Walks
                                       << " walks reached MaxSteps = " << self->MaxSteps
                                       << " and were stopped (see TruncatedFraction).");
     }
@@ -204,11 +279,14 @@ public:
 //------------------------------------------------------------------------------
 vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
 }
 
-vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver() = default;
+vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
+{
+  this->SetSourceExpression(nullptr);
+}
 
 void vtkWalkOnSpheresSolver::SetBoundaryConnection(vtkAlgorithmOutput* output)
 {
@@ -230,6 +308,16 @@ void vtkWalkOnSpheresSolver::SetProbeData(vtkDataObject* data)
   this->SetInputData(ProbePort, data);
 }
 
+void vtkWalkOnSpheresSolver::SetSourceConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(SourcePort, output);
+}
+
+void vtkWalkOnSpheresSolver::SetSourceData(vtkDataObject* data)
+{
+  this->SetInputData(SourcePort, data);
+}
+
 double vtkWalkOnSpheresSolver::GetLastWalksPerSecond() const
 {
   return this->LastSolveSeconds > 0.0
@@ -247,6 +335,10 @@ int vtkWalkOnSpheresSolver::FillInputPortInformation(int port, vtkInformation* i
   else
   {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  }
+  if (port == SourcePort)
+  {
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   }
   return 1;
 }
@@ -299,22 +391,27 @@ int vtkWalkOnSpheresSolver::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-// Every piece needs the whole boundary; the probe is split as requested.
+// Every piece needs the whole boundary and source; the probe is split as requested.
 int vtkWalkOnSpheresSolver::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkInformation* boundaryInfo = inputVector[BoundaryPort]->GetInformationObject(0);
   vtkInformation* probeInfo = inputVector[ProbePort]->GetInformationObject(0);
-  if (boundaryInfo)
+  // The boundary and the source are needed whole by every piece.
+  for (int port : { BoundaryPort, SourcePort })
   {
-    boundaryInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    boundaryInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    boundaryInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-    if (boundaryInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    vtkInformation* wholeInfo = inputVector[port]->GetInformationObject(0);
+    if (!wholeInfo)
     {
-      boundaryInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-        boundaryInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+      continue;
+    }
+    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    if (wholeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+        wholeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
     }
   }
   if (probeInfo)
@@ -329,6 +426,82 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+// The numeric array selected as input array `index` on `data`, or, with no
+// selection and `fallback` set, the active point (then cell) scalars. Sets
+// `missing` to an error message when a named array is absent or not numeric.
+vtkDataArray* vtkWalkOnSpheresSolver::ResolveArray(
+  int index, vtkDataSet* data, bool fallback, int& association, std::string& missing)
+{
+  missing.clear();
+  association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkInformation* arrayInfo = this->GetInputArrayInformation(index);
+  const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  const bool selected = arrayInfo &&
+    ((requested && *requested) || arrayInfo->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE()));
+  vtkDataArray* values = selected ? this->GetInputArrayToProcess(index, data, association) : nullptr;
+  if (!values && requested && *requested)
+  {
+    vtkAbstractArray* any = data->GetPointData()->GetAbstractArray(requested);
+    if (!any)
+    {
+      any = data->GetCellData()->GetAbstractArray(requested);
+    }
+    missing = any ? "the array '" + std::string(requested) + "' is a " + any->GetClassName() +
+        ", not a numeric array"
+                  : "there is no point or cell array named '" + std::string(requested) + "'";
+    return nullptr;
+  }
+  if (!values && fallback)
+  {
+    association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    values = data->GetPointData()->GetScalars();
+    if (!values)
+    {
+      association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
+      values = data->GetCellData()->GetScalars();
+    }
+  }
+  return values;
+}
+
+namespace
+{
+vtkIdType CountNonFinite(vtkDataArray* values)
+{
+  vtkIdType nonFinite = 0;
+  for (vtkIdType t = 0; t < values->GetNumberOfTuples(); ++t)
+  {
+    for (int c = 0; c < values->GetNumberOfComponents(); ++c)
+    {
+      nonFinite += std::isfinite(values->GetComponent(t, c)) ? 0 : 1;
+    }
+  }
+  return nonFinite;
+}
+
+// g and h side by side, so one closest-point query gives both.
+vtkSmartPointer<vtkDoubleArray> Concatenate(vtkDataArray* g, vtkDataArray* h)
+{
+  const int nc = g->GetNumberOfComponents();
+  auto both = vtkSmartPointer<vtkDoubleArray>::New();
+  both->SetName(g->GetName());
+  both->SetNumberOfComponents(2 * nc);
+  both->SetNumberOfTuples(g->GetNumberOfTuples());
+  for (vtkIdType t = 0; t < g->GetNumberOfTuples(); ++t)
+  {
+    for (int c = 0; c < nc; ++c)
+    {
+      both->SetComponent(t, c, g->GetComponent(t, c));
+      both->SetComponent(t, nc + c, h->GetComponent(t, c));
+    }
+  }
+  return both;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 int vtkWalkOnSpheresSolver::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -338,6 +511,7 @@ int vtkWalkOnSpheresSolver::RequestData(
 
   vtkPolyData* boundary = vtkPolyData::GetData(inputVector[BoundaryPort], 0);
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
+  vtkDataSet* source = vtkDataSet::GetData(inputVector[SourcePort], 0);
   vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
   if (!boundary)
   {
@@ -364,49 +538,16 @@ int vtkWalkOnSpheresSolver::RequestData(
     return 0;
   }
 
-  // The boundary values: the selected array, if one was selected.
+  // The boundary values g: the selected array, else the active scalars.
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const bool selected = arrayInfo->Has(vtkDataObject::FIELD_NAME()) ||
-    arrayInfo->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE());
-  vtkDataArray* values =
-    selected ? this->GetInputArrayToProcess(0, boundary, association) : nullptr;
-  const char* requested =
-    arrayInfo->Has(vtkDataObject::FIELD_NAME()) ? arrayInfo->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-  if (!values && requested && *requested)
-  {
-    vtkAbstractArray* any = boundary->GetPointData()->GetAbstractArray(requested);
-    if (!any)
-    {
-      any = boundary->GetCellData()->GetAbstractArray(requested);
-    }
-    if (any)
-    {
-      vtkErrorMacro(<< "The boundary value array '" << requested << "' is a "
-                    << any->GetClassName()
-                    << ", not a numeric array: choose a numeric point or cell array.");
-    }
-    else
-    {
-      vtkErrorMacro(<< "The boundary has no point or cell array named '" << requested << "'.");
-    }
-    return 0;
-  }
+  vtkDataArray* values = this->ResolveArray(0, boundary, true, association, reason);
   if (!values)
   {
-    // No selection: fall back to the active scalars, points first.
-    association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-    values = boundary->GetPointData()->GetScalars();
-    if (!values)
-    {
-      association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
-      values = boundary->GetCellData()->GetScalars();
-    }
-  }
-  if (!values)
-  {
-    vtkErrorMacro(<< "No boundary values: select a numeric point or cell array of the "
-                     "Boundary input with SetInputArrayToProcess(0, 0, 0, association, name).");
+    vtkErrorMacro(<< (reason.empty()
+                       ? std::string("No boundary values: select a numeric point or cell array of "
+                                     "the Boundary input with SetInputArrayToProcess(0, 0, 0, "
+                                     "association, name).")
+                       : "Cannot use the boundary values: " + reason + "."));
     return 0;
   }
   const bool cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
@@ -415,23 +556,88 @@ int vtkWalkOnSpheresSolver::RequestData(
     vtkErrorMacro(<< "Boundary values must be point data or cell data.");
     return 0;
   }
-
-  // Non-finite boundary data would silently poison every walk that ends near it.
-  vtkIdType nonFinite = 0;
-  for (vtkIdType t = 0; t < values->GetNumberOfTuples(); ++t)
-  {
-    for (int c = 0; c < values->GetNumberOfComponents(); ++c)
-    {
-      nonFinite += std::isfinite(values->GetComponent(t, c)) ? 0 : 1;
-    }
-  }
   const std::string name =
     values->GetName() && *values->GetName() ? values->GetName() : std::string("Solution");
-  if (nonFinite > 0)
+
+  // Non-finite boundary data would silently poison every walk that ends near it.
+  if (const vtkIdType nonFinite = CountNonFinite(values))
   {
     vtkErrorMacro(<< "The boundary value array '" << name << "' has " << nonFinite
                   << " NaN or infinite values: boundary values must be finite.");
     return 0;
+  }
+
+  if (this->Equation == SCREENED_POISSON && !(this->ScreeningCoefficient > 0.0))
+  {
+    vtkErrorMacro(<< "The screened Poisson equation needs ScreeningCoefficient > 0 (got "
+                  << this->ScreeningCoefficient << "); use the Poisson equation for c = 0.");
+    return 0;
+  }
+
+  // The biharmonic equation's second boundary array h = Δu.
+  vtkSmartPointer<vtkDataArray> combined = values;
+  if (this->Equation == BIHARMONIC)
+  {
+    int hAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    vtkDataArray* h = this->ResolveArray(1, boundary, false, hAssociation, reason);
+    if (!h)
+    {
+      vtkErrorMacro(<< "The biharmonic equation needs a second boundary array for the "
+                       "Laplacian h (Δu = h on the boundary), selected with "
+                       "SetInputArrayToProcess(1, 0, 0, association, name)"
+                    << (reason.empty() ? std::string(".") : ": " + reason + "."));
+      return 0;
+    }
+    if (hAssociation != association ||
+      h->GetNumberOfComponents() != values->GetNumberOfComponents())
+    {
+      vtkErrorMacro(<< "The Laplacian array '" << (h->GetName() ? h->GetName() : "")
+                    << "' must have the association (point or cell data) and the number of "
+                       "components of the boundary value array '"
+                    << name << "'.");
+      return 0;
+    }
+    if (const vtkIdType nonFinite = CountNonFinite(h))
+    {
+      vtkErrorMacro(<< "The Laplacian array has " << nonFinite
+                    << " NaN or infinite values: boundary values must be finite.");
+      return 0;
+    }
+    combined = Concatenate(values, h);
+  }
+
+  // Source terms: the Source input's point array and the expression.
+  vtkWalkOnSpheresSolverInputs inputs;
+  const bool hasExpression = this->SourceExpression && *this->SourceExpression;
+  const bool usesSources = this->Equation == POISSON || this->Equation == SCREENED_POISSON;
+  if ((source || hasExpression) && !usesSources)
+  {
+    vtkWarningMacro(<< "The source term (Source input or SourceExpression) is ignored: only the "
+                       "Poisson and screened Poisson equations have one.");
+  }
+  if (usesSources && source)
+  {
+    int sourceAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    inputs.SourceArray = this->ResolveArray(2, source, false, sourceAssociation, reason);
+    if (!inputs.SourceArray && !reason.empty())
+    {
+      vtkErrorMacro(<< "Cannot use the Source input: " << reason << ".");
+      return 0;
+    }
+    if (!inputs.SourceArray)
+    {
+      inputs.SourceArray = source->GetPointData()->GetScalars();
+    }
+    if (inputs.SourceArray && sourceAssociation != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+    {
+      vtkErrorMacro(<< "The source array must be point data of the Source input.");
+      return 0;
+    }
+    inputs.Source = source;
+  }
+  if (usesSources && hasExpression)
+  {
+    inputs.Expression = this->SourceExpression;
   }
 
   if (probe->GetNumberOfPoints() == 0)
@@ -440,12 +646,17 @@ int vtkWalkOnSpheresSolver::RequestData(
     return 1;
   }
 
+  inputs.Boundary = boundary;
+  inputs.Values = combined;
+  inputs.CellData = cellData;
+  inputs.Probe = probe;
+  inputs.Output = output;
+  inputs.Name = name;
   bool ok = false;
   try
   {
-    ok = dimension == 2
-      ? vtkWalkOnSpheresSolverRunner<2>::Run(this, boundary, values, cellData, probe, output, name)
-      : vtkWalkOnSpheresSolverRunner<3>::Run(this, boundary, values, cellData, probe, output, name);
+    ok = dimension == 2 ? vtkWalkOnSpheresSolverRunner<2>::Run(this, inputs)
+                        : vtkWalkOnSpheresSolverRunner<3>::Run(this, inputs);
   }
   catch (const std::exception& e)
   {
@@ -460,6 +671,13 @@ int vtkWalkOnSpheresSolver::RequestData(
 void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Equation: " << this->Equation << "\n";
+  os << indent << "ScreeningCoefficient: " << this->ScreeningCoefficient << "\n";
+  os << indent << "SourceExpression: "
+     << (this->SourceExpression ? this->SourceExpression : "(none)") << "\n";
+  os << indent << "SourceSampling: " << this->SourceSampling << "\n";
+  os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
+  os << indent << "NestedWalks: " << this->NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";
   os << indent << "Epsilon: " << this->Epsilon << "\n";
   os << indent << "EpsilonIsRelative: " << (this->EpsilonIsRelative ? "On" : "Off") << "\n";

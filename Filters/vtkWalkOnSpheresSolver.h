@@ -1,13 +1,20 @@
 /**
  * @class   vtkWalkOnSpheresSolver
- * @brief   Solve a Laplace boundary-value problem by walk on spheres, directly
- *          on a boundary surface, at the points of any probe dataset.
+ * @brief   Solve Laplace, Poisson, screened Poisson and biharmonic
+ *          boundary-value problems by walk on spheres, directly on a boundary
+ *          surface, at the points of any probe dataset.
  *
- * vtkWalkOnSpheresSolver estimates the harmonic function u (Δu = 0) that takes
- * prescribed values g on a boundary, without a volume mesh: from every probe
- * point it runs independent random walks that jump to a uniform point on the
- * largest empty sphere until they come within Epsilon of the boundary, and
- * averages g at the closest boundary point (Sawhney & Crane 2020, Sec. 2.2).
+ * vtkWalkOnSpheresSolver estimates the solution u of a Dirichlet problem
+ * without a volume mesh: from every probe point it runs independent random
+ * walks that jump to a uniform point on the largest empty sphere until they
+ * come within Epsilon of the boundary, and averages the boundary value at the
+ * closest boundary point, minus the source terms met on the way (Sawhney &
+ * Crane 2020, Sec. 2). The Equation is one of
+ * - Laplace: Δu = 0, u = g (the default);
+ * - Poisson: Δu = f, u = g;
+ * - ScreenedPoisson: Δu − c·u = f, u = g, with ScreeningCoefficient c > 0;
+ * - Biharmonic: Δ²u = 0, u = g and Δu = h on the boundary.
+ * The sign convention is the standard Laplacian: Δ|x|² = 2n.
  *
  * Input port 0, "Boundary", is a vtkPolyData. Triangles, polygons and triangle
  * strips make a 3D problem (a polygon soup is fine: no watertightness,
@@ -17,21 +24,41 @@
  * point data are interpolated linearly at the closest point, cell data are
  * constant per cell, and every component of a multi-component array is
  * estimated from the same walks. Without a selection, the active point (then
- * cell) scalars are used.
+ * cell) scalars are used. The biharmonic equation's h is the array chosen
+ * with SetInputArrayToProcess(1, ...), with g's association and components.
  *
  * Input port 1, "Probe", is any vtkDataSet; the output has the probe's type,
- * structure and arrays (an image stays an image), plus, for a boundary array
- * named T:
+ * structure and arrays (an image stays an image).
+ *
+ * Input port 2, "Source", is optional: the source term f of the Poisson and
+ * screened Poisson equations, from the point array chosen with
+ * SetInputArrayToProcess(2, ...) (default: the active point scalars).
+ * - a vtkImageData is interpolated trilinearly from its voxels (a CT volume
+ *   as the source), zero outside the image;
+ * - a vtkPolyData with vertices and lines gives point sources s·δ_z and
+ *   curve sources s·δ_γ with strength s per point (paper Sec. 4.2.2);
+ * - any other vtkDataSet is interpolated in the cell that contains the point,
+ *   zero outside its cells.
+ * SourceExpression adds f given as an expression in x, y and z. A
+ * one-component source applies to every component of the boundary values.
+ *
+ * For a boundary array named T the output holds
  * - `T`: the estimated solution (active scalars);
  * - `T_Variance`: the variance of that Monte Carlo mean (s^2/N), per component;
- * - `WalkSteps`: mean number of steps per walk;
- * - `EscapedFraction`: fraction of walks that left a far sphere around the
- *   boundary (only in a region the boundary does not enclose; they count as 0,
- *   the value at infinity);
+ * - `T_Laplacian`, `T_Laplacian_Variance` (biharmonic only): the estimate of
+ *   Δu, a by-product of the same walks;
+ * - `WalkSteps`: mean number of steps per walk (inner walks included);
+ * - `EscapedFraction`: fraction of walks that left for infinity in an
+ *   exterior problem (they contribute the value at infinity, 0: an exact part
+ *   of the estimator, not an error);
  * - `TruncatedFraction`: fraction of walks stopped at MaxSteps (they take the
  *   value at their current closest boundary point).
  * Field data `TotalWalks`, `TotalSteps`, `EscapedWalks`, `TruncatedWalks` and
  * `SolveSeconds` summarize the run.
+ *
+ * Probe points outside a closed boundary (or anywhere around an open one)
+ * solve the exterior problem with u → 0 at infinity (3D) or u bounded (2D):
+ * walks far away are ended or returned by Russian roulette (Sec. 2.6).
  *
  * Results are reproducible: a walk's random stream depends only on Seed, the
  * probe point's coordinates and the walk's number, so the output is identical
@@ -46,7 +73,10 @@
 #include "vtkDataSetAlgorithm.h"
 
 #include <cstdint> // for std::uint64_t
+#include <string>  // for std::string
 
+class vtkDataArray;
+class vtkDataSet;
 class vtkPolyData;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
@@ -64,6 +94,85 @@ public:
   void SetBoundaryData(vtkDataObject* data);
   void SetProbeConnection(vtkAlgorithmOutput* output);
   void SetProbeData(vtkDataObject* data);
+  void SetSourceConnection(vtkAlgorithmOutput* output);
+  void SetSourceData(vtkDataObject* data);
+  ///@}
+
+  enum EquationType
+  {
+    LAPLACE = 0,
+    POISSON = 1,
+    SCREENED_POISSON = 2,
+    BIHARMONIC = 3
+  };
+
+  ///@{
+  /**
+   * The equation to solve (default LAPLACE); see the class description.
+   */
+  vtkSetClampMacro(Equation, int, LAPLACE, BIHARMONIC);
+  vtkGetMacro(Equation, int);
+  void SetEquationToLaplace() { this->SetEquation(LAPLACE); }
+  void SetEquationToPoisson() { this->SetEquation(POISSON); }
+  void SetEquationToScreenedPoisson() { this->SetEquation(SCREENED_POISSON); }
+  void SetEquationToBiharmonic() { this->SetEquation(BIHARMONIC); }
+  ///@}
+
+  ///@{
+  /**
+   * c in the screened Poisson equation Δu − c·u = f (default 1, in inverse
+   * squared length units; must be positive). Large c confines the solution
+   * to a layer of width about 1/sqrt(c) near the boundary.
+   */
+  vtkSetMacro(ScreeningCoefficient, double);
+  vtkGetMacro(ScreeningCoefficient, double);
+  ///@}
+
+  ///@{
+  /**
+   * A source term f(x, y, z) added to the Source input's, in the syntax of
+   * VTK's ExprTk function parser, e.g. "exp(-(x^2+y^2+z^2))" (default empty:
+   * none). Used by the Poisson and screened Poisson equations.
+   */
+  vtkSetStringMacro(SourceExpression);
+  vtkGetStringMacro(SourceExpression);
+  ///@}
+
+  enum SourceSamplingType
+  {
+    UNIFORM = 0,
+    GREENS_FUNCTION = 1,
+    MULTIPLE_IMPORTANCE = 2
+  };
+
+  ///@{
+  /**
+   * How a walk samples the volume source in each ball (paper Sec. 4.2):
+   * UNIFORM in the ball, proportional to the GREENS_FUNCTION (the default:
+   * best for smooth sources), or MULTIPLE_IMPORTANCE, one sample of each
+   * combined by the balance heuristic (robust for concentrated sources such
+   * as bright spots in a CT volume, at twice the source evaluations).
+   */
+  vtkSetClampMacro(SourceSampling, int, UNIFORM, MULTIPLE_IMPORTANCE);
+  vtkGetMacro(SourceSampling, int);
+  ///@}
+
+  enum BiharmonicStrategyType
+  {
+    TREE_WALKING = 0,
+    NESTED = 1
+  };
+
+  ///@{
+  /**
+   * Biharmonic estimator: TREE_WALKING (default, paper Sec. 4.3) reuses the
+   * boundary hit of the walk for u to estimate Δu along it, at the cost of a
+   * Laplace walk; NESTED runs NestedWalks inner walks at every step (Sec. 2.5).
+   */
+  vtkSetClampMacro(BiharmonicStrategy, int, TREE_WALKING, NESTED);
+  vtkGetMacro(BiharmonicStrategy, int);
+  vtkSetClampMacro(NestedWalks, int, 1, VTK_INT_MAX);
+  vtkGetMacro(NestedWalks, int);
   ///@}
 
   ///@{
@@ -136,6 +245,16 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  // The numeric array chosen as input array `index` (see the .cxx).
+  vtkDataArray* ResolveArray(
+    int index, vtkDataSet* data, bool fallback, int& association, std::string& missing);
+
+  int Equation = LAPLACE;
+  double ScreeningCoefficient = 1.0;
+  char* SourceExpression = nullptr;
+  int SourceSampling = GREENS_FUNCTION;
+  int BiharmonicStrategy = TREE_WALKING;
+  int NestedWalks = 1;
   int WalksPerPoint = 128;
   double Epsilon = 1e-4;
   bool EpsilonIsRelative = true;
@@ -153,6 +272,7 @@ private:
 
   template <int DIM>
   friend class vtkWalkOnSpheresSolverRunner;
+  friend struct vtkWalkOnSpheresSolverInputs;
 };
 
 #endif

@@ -264,7 +264,7 @@ int main(int argc, char* argv[])
     const int walksPerPoint = 16;
     std::vector<std::uint64_t> steps(starts.size());
     auto walk = [&](std::size_t i) {
-      LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+      WalkOnSpheresEstimator<3> estimator(boundary, settings);
       RunningStatistics stats(1);
       WalkCounters counters;
       const double xyz[3] = { starts[i][0], starts[i][1], starts[i][2] };

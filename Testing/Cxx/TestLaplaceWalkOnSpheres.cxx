@@ -6,6 +6,7 @@
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
 #include "WalkOnSpheres.h"
+#include "EstimatorChecks.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -19,27 +20,13 @@ using namespace gridfree::testing;
 namespace
 {
 template <int DIM>
-using Exact = std::function<double(const Vec<DIM>&)>;
+using Exact = Field<DIM>;
 
 template <int DIM>
 Boundary<DIM> MakeBoundary(const SimplexMesh<DIM>& mesh, const Exact<DIM>& g)
 {
-  std::vector<double> values;
-  for (const auto& v : mesh.Vertices)
-  {
-    values.push_back(g(v));
-  }
-  Boundary<DIM> boundary;
-  boundary.Set(mesh.Vertices, mesh.Simplices, ValueAssociation::Points, 1, values);
-  return boundary;
+  return gridfree::testing::MakeBoundary<DIM>(mesh, std::vector<Field<DIM>>{ g });
 }
-
-struct Calibration
-{
-  double MeanZ2 = 0.0;
-  double MaxAbsZ = 0.0;
-  int Points = 0;
-};
 
 // Estimates u at `points` with `walks` walks each and compares with `exact`.
 template <int DIM>
@@ -48,64 +35,10 @@ Calibration Check(const Boundary<DIM>& boundary, const std::vector<Vec<DIM>>& po
 {
   WalkSettings settings;
   settings.Epsilon = epsilon * boundary.Diagonal();
-  LaplaceWalkOnSpheres<DIM> estimator(boundary, settings);
-  Calibration result;
-  for (const Vec<DIM>& x : points)
-  {
-    double xyz[3] = { 0, 0, 0 };
-    for (int i = 0; i < DIM; ++i)
-    {
-      xyz[i] = x[i];
-    }
-    RunningStatistics stats(1);
-    WalkCounters counters;
-    estimator.EstimatePoint(xyz, seed, 0, walks, stats, counters);
-    EXPECT_EQ(counters.Escaped, 0u);
-    EXPECT_EQ(counters.Truncated, 0u);
-    const double z = (stats.GetMean(0) - exact(x)) / std::sqrt(stats.VarianceOfMean(0));
-    result.MeanZ2 += z * z;
-    result.MaxAbsZ = std::max(result.MaxAbsZ, std::abs(z));
-    ++result.Points;
-  }
-  result.MeanZ2 /= result.Points;
-  return result;
-}
-
-template <int DIM>
-std::vector<Vec<DIM>> RandomPointsInBall(int count, double radius, std::uint32_t seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-radius, radius);
-  std::vector<Vec<DIM>> points;
-  while (static_cast<int>(points.size()) < count)
-  {
-    Vec<DIM> p;
-    for (int i = 0; i < DIM; ++i)
-    {
-      p[i] = u(rng);
-    }
-    if (p.norm() < radius)
-    {
-      points.push_back(p);
-    }
-  }
-  return points;
-}
-
-template <int DIM>
-std::vector<Vec<DIM>> RandomPointsInBox(int count, double half, std::uint32_t seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-half, half);
-  std::vector<Vec<DIM>> points(count);
-  for (Vec<DIM>& p : points)
-  {
-    for (int i = 0; i < DIM; ++i)
-    {
-      p[i] = u(rng);
-    }
-  }
-  return points;
+  const Calibration c = CheckEstimator<DIM>(boundary, settings, points, { exact }, walks, seed)[0];
+  EXPECT_EQ(c.EscapedFraction, 0.0);
+  EXPECT_EQ(c.TruncatedFraction, 0.0);
+  return c;
 }
 
 // Walks per point of the calibration tests. Near a boundary the walk's value
@@ -113,14 +46,6 @@ std::vector<Vec<DIM>> RandomPointsInBox(int count, double half, std::uint32_t se
 // sample variance is often too small and |z| has heavy tails; 512 walks and
 // points at least 0.1 from the boundary keep the t-statistic near normal.
 constexpr int Walks = 512;
-
-void ExpectCalibrated(const Calibration& c)
-{
-  EXPECT_GE(c.Points, 500);
-  EXPECT_LT(c.MaxAbsZ, 5.0);
-  EXPECT_GT(c.MeanZ2, 0.7);
-  EXPECT_LT(c.MeanZ2, 1.4);
-}
 
 // Harmonic test functions (DESIGN.md §3).
 const Exact<3> Saddle3 = [](const Vec3& x) { return x[0] * x[0] - x[1] * x[1]; };
@@ -201,7 +126,7 @@ TEST(LaplaceWalkOnSpheres, MultipleComponentsShareWalks)
   boundary.Set(sphere.Vertices, sphere.Simplices, ValueAssociation::Points, 2, values);
   WalkSettings settings;
   settings.Epsilon = 1e-4 * boundary.Diagonal();
-  LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
   const double xyz[3] = { 0.1, 0.2, -0.3 };
   RunningStatistics stats(2);
   WalkCounters counters;
@@ -223,7 +148,7 @@ TEST(LaplaceWalkOnSpheres, CellValuesAreConstantPerPrimitive)
   boundary.Set(square.Vertices, square.Simplices, ValueAssociation::Cells, 1, values);
   WalkSettings settings;
   settings.Epsilon = 1e-5 * boundary.Diagonal();
-  LaplaceWalkOnSpheres<2> estimator(boundary, settings);
+  WalkOnSpheresEstimator<2> estimator(boundary, settings);
   const double xyz[3] = { 0, 0, 0 };
   RunningStatistics stats(1);
   WalkCounters counters;
@@ -237,7 +162,7 @@ TEST(LaplaceWalkOnSpheres, PointOnBoundaryGetsBoundaryValue)
   const Boundary<3> boundary = MakeBoundary<3>(sphere, Saddle3);
   WalkSettings settings;
   settings.Epsilon = 1e-4 * boundary.Diagonal();
-  LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
   const Vec3 v = sphere.Vertices[17];
   const double xyz[3] = { v[0], v[1], v[2] };
   RunningStatistics stats(1);
@@ -248,9 +173,9 @@ TEST(LaplaceWalkOnSpheres, PointOnBoundaryGetsBoundaryValue)
   EXPECT_EQ(counters.Steps, 0u);
 }
 
-// Outside a closed sphere with g = 1, walks either return to the sphere or
-// leave the far sphere of radius rho (value 0): the estimate is the annulus
-// solution (1/r - 1/rho) / (1 - 1/rho), and escapes are counted.
+// Outside a closed unit sphere with g = 1 the exterior solution is 1/r: a
+// walk reaches the sphere with probability 1/r, else escapes (value 0), and
+// escapes are counted.
 TEST(LaplaceWalkOnSpheres3D, ExteriorWalksEscapeAndAreCounted)
 {
   const SimplexMesh<3> sphere = MakeIcosphere(5);
@@ -259,13 +184,12 @@ TEST(LaplaceWalkOnSpheres3D, ExteriorWalksEscapeAndAreCounted)
     std::vector<double>(sphere.Vertices.size(), 1.0));
   WalkSettings settings;
   settings.Epsilon = 1e-4 * boundary.Diagonal();
-  LaplaceWalkOnSpheres<3> estimator(boundary, settings);
-  const double rho = settings.EscapeRadiusFactor * boundary.Diagonal();
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
   const double xyz[3] = { 2.0, 0.0, 0.0 };
   RunningStatistics stats(1);
   WalkCounters counters;
   estimator.EstimatePoint(xyz, 9, 0, 20000, stats, counters);
-  const double exact = (1.0 / 2.0 - 1.0 / rho) / (1.0 - 1.0 / rho);
+  const double exact = 0.5;
   EXPECT_LT(std::abs(stats.GetMean(0) - exact), 5.0 * std::sqrt(stats.VarianceOfMean(0)));
   EXPECT_NEAR(counters.EscapedFraction(), 1.0 - exact, 0.02);
 }
@@ -277,7 +201,7 @@ TEST(LaplaceWalkOnSpheres, TruncatedWalksAreCounted)
   WalkSettings settings;
   settings.Epsilon = 1e-6 * boundary.Diagonal();
   settings.MaxSteps = 1;
-  LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
   const double xyz[3] = { 0, 0, 0 };
   RunningStatistics stats(1);
   WalkCounters counters;
@@ -291,7 +215,7 @@ TEST(LaplaceWalkOnSpheres, NonFiniteStartGivesNaN)
   const SimplexMesh<3> sphere = MakeIcosphere(2);
   const Boundary<3> boundary = MakeBoundary<3>(sphere, Saddle3);
   WalkSettings settings;
-  LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
   const double xyz[3] = { std::nan(""), 0, 0 };
   RunningStatistics stats(1);
   WalkCounters counters;
@@ -311,7 +235,7 @@ TEST(LaplaceWalkOnSpheres, IdenticalForOneAndTwoThreads)
     std::vector<double> result(points.size() * 2);
     ParallelForWithProgress(points.size(), threads,
       [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
-        LaplaceWalkOnSpheres<3> estimator(boundary, settings);
+        WalkOnSpheresEstimator<3> estimator(boundary, settings);
         for (std::size_t i = begin; i < end; ++i)
         {
           const double xyz[3] = { points[i][0], points[i][1], points[i][2] };
@@ -342,7 +266,7 @@ TEST(LaplaceWalkOnSpheres, WalkStreamsDependOnlyOnWalkNumber)
   const Boundary<2> boundary = MakeBoundary<2>(circle, ExpTrig2);
   WalkSettings settings;
   settings.Epsilon = 1e-4 * boundary.Diagonal();
-  LaplaceWalkOnSpheres<2> estimator(boundary, settings);
+  WalkOnSpheresEstimator<2> estimator(boundary, settings);
   const double xyz[3] = { 0.3, -0.2, 0.0 };
   RunningStatistics once(1), twice(1);
   WalkCounters c1, c2;

@@ -1,0 +1,564 @@
+#include "GridFreeSourceConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkExprTkFunctionParser.h"
+#include "vtkGenericCell.h"
+#include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStaticCellLocator.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace gridfree
+{
+namespace
+{
+// Collects the messages of a VTK object's error events instead of printing them.
+class ErrorCollector : public vtkCommand
+{
+public:
+  static ErrorCollector* New() { return new ErrorCollector; }
+  void Execute(vtkObject*, unsigned long, void* callData) override
+  {
+    if (callData)
+    {
+      this->Message += static_cast<const char*>(callData);
+    }
+  }
+  std::string Message;
+};
+
+// The source's values as floats, `components` per point (a one-component
+// array is broadcast), so every thread reads them without VTK calls.
+std::vector<float> CopyValues(vtkDataArray* array, int components)
+{
+  const vtkIdType tuples = array->GetNumberOfTuples();
+  const int nc = array->GetNumberOfComponents();
+  std::vector<float> values(static_cast<std::size_t>(tuples) * components);
+  for (vtkIdType t = 0; t < tuples; ++t)
+  {
+    for (int c = 0; c < components; ++c)
+    {
+      values[static_cast<std::size_t>(t) * components + c] =
+        static_cast<float>(array->GetComponent(t, nc == 1 ? 0 : c));
+    }
+  }
+  return values;
+}
+
+template <int DIM>
+std::array<double, 3> ToXYZ(const Vec<DIM>& y, double planeZ)
+{
+  return { y[0], y[1], DIM == 3 ? y[DIM - 1] : planeZ };
+}
+
+// Trilinear interpolation in an image's voxels (direct index arithmetic,
+// honouring the image's direction matrix); zero outside the image. An axis
+// with a single sample is constant along that axis.
+template <int DIM>
+class ImageSource : public VolumeSource<DIM>
+{
+public:
+  struct Shared
+  {
+    std::array<double, 3> Origin{};
+    std::array<double, 3> Spacing{};
+    std::array<int, 3> Dims{};
+    std::array<double, 9> PhysicalToIndex{}; // inverse direction, row-major
+    int Components = 1;
+    double PlaneZ = 0.0;
+    std::vector<float> Values;
+    bool Bounded = true;
+    Vec<DIM> Min, Max;
+  };
+
+  explicit ImageSource(std::shared_ptr<const Shared> shared)
+    : Data(std::move(shared))
+  {
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    const Shared& s = *this->Data;
+    const std::array<double, 3> p = ToXYZ<DIM>(y, s.PlaneZ);
+    double index[3];
+    int base[3];
+    double frac[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      const double d0 = p[0] - s.Origin[0];
+      const double d1 = p[1] - s.Origin[1];
+      const double d2 = p[2] - s.Origin[2];
+      index[i] = (s.PhysicalToIndex[3 * i] * d0 + s.PhysicalToIndex[3 * i + 1] * d1 +
+                   s.PhysicalToIndex[3 * i + 2] * d2) /
+        s.Spacing[i];
+      if (s.Dims[i] == 1)
+      {
+        base[i] = 0;
+        frac[i] = 0.0;
+        continue;
+      }
+      // A tiny tolerance keeps points on the image's faces inside.
+      const double top = static_cast<double>(s.Dims[i] - 1);
+      if (!(index[i] >= -1e-9 && index[i] <= top + 1e-9))
+      {
+        std::fill(f, f + s.Components, 0.0);
+        return;
+      }
+      index[i] = std::min(std::max(index[i], 0.0), top);
+      base[i] = std::min(static_cast<int>(index[i]), s.Dims[i] - 2);
+      frac[i] = index[i] - base[i];
+    }
+    std::fill(f, f + s.Components, 0.0);
+    const std::size_t strideY = static_cast<std::size_t>(s.Dims[0]);
+    const std::size_t strideZ = strideY * static_cast<std::size_t>(s.Dims[1]);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      double w = 1.0;
+      std::size_t offset = 0;
+      bool skip = false;
+      for (int i = 0; i < 3; ++i)
+      {
+        const int bit = (corner >> i) & 1;
+        if (bit && s.Dims[i] == 1)
+        {
+          skip = true;
+          break;
+        }
+        w *= bit ? frac[i] : 1.0 - frac[i];
+        offset += static_cast<std::size_t>(base[i] + bit) *
+          (i == 0 ? 1 : (i == 1 ? strideY : strideZ));
+      }
+      if (skip || w == 0.0)
+      {
+        continue;
+      }
+      const float* v = &s.Values[offset * s.Components];
+      for (int c = 0; c < s.Components; ++c)
+      {
+        f[c] += w * v[c];
+      }
+    }
+  }
+
+  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
+  {
+    boxMin = this->Data->Min;
+    boxMax = this->Data->Max;
+    return this->Data->Bounded;
+  }
+
+private:
+  std::shared_ptr<const Shared> Data;
+};
+
+// Any other dataset: the cell containing y and its interpolation weights.
+template <int DIM>
+class DataSetSource : public VolumeSource<DIM>
+{
+public:
+  struct Shared
+  {
+    vtkSmartPointer<vtkDataSet> Data;
+    vtkSmartPointer<vtkStaticCellLocator> Locator;
+    int Components = 1;
+    double PlaneZ = 0.0;
+    std::vector<float> Values;
+    Vec<DIM> Min, Max;
+  };
+
+  explicit DataSetSource(std::shared_ptr<const Shared> shared)
+    : Data(std::move(shared))
+    , Weights(static_cast<std::size_t>(std::max(1, this->Data->Data->GetMaxCellSize())))
+  {
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    const Shared& s = *this->Data;
+    std::array<double, 3> p = ToXYZ<DIM>(y, s.PlaneZ);
+    std::fill(f, f + s.Components, 0.0);
+    int subId = 0;
+    double pcoords[3];
+    const vtkIdType cell =
+      s.Locator->FindCell(p.data(), 0.0, this->Cell, subId, pcoords, this->Weights.data());
+    if (cell < 0)
+    {
+      return;
+    }
+    const vtkIdType n = this->Cell->GetNumberOfPoints();
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      const float* v = &s.Values[static_cast<std::size_t>(this->Cell->GetPointId(k)) *
+        static_cast<std::size_t>(s.Components)];
+      for (int c = 0; c < s.Components; ++c)
+      {
+        f[c] += this->Weights[k] * v[c];
+      }
+    }
+  }
+
+  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
+  {
+    boxMin = this->Data->Min;
+    boxMax = this->Data->Max;
+    return true;
+  }
+
+private:
+  std::shared_ptr<const Shared> Data;
+  vtkNew<vtkGenericCell> Cell;
+  std::vector<double> Weights;
+};
+
+// An expression in x, y, z; one parser per thread (parsers are not shared).
+template <int DIM>
+class ExpressionSource : public VolumeSource<DIM>
+{
+public:
+  ExpressionSource(const std::string& expression, int components, double planeZ)
+    : Components(components)
+    , PlaneZ(planeZ)
+  {
+    this->Parser->SetFunction(expression.c_str());
+    this->Parser->SetScalarVariableValue("x", 0.0);
+    this->Parser->SetScalarVariableValue("y", 0.0);
+    this->Parser->SetScalarVariableValue("z", 0.0);
+    this->Parser->GetScalarResult(); // parse once, before the walks
+    this->X = this->Parser->GetScalarVariableIndex("x");
+    this->Y = this->Parser->GetScalarVariableIndex("y");
+    this->Z = this->Parser->GetScalarVariableIndex("z");
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    const std::array<double, 3> p = ToXYZ<DIM>(y, this->PlaneZ);
+    this->Parser->SetScalarVariableValue(this->X, p[0]);
+    this->Parser->SetScalarVariableValue(this->Y, p[1]);
+    this->Parser->SetScalarVariableValue(this->Z, p[2]);
+    const double value = this->Parser->GetScalarResult();
+    std::fill(f, f + this->Components, value);
+  }
+
+  bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
+
+private:
+  vtkNew<vtkExprTkFunctionParser> Parser;
+  int Components;
+  double PlaneZ;
+  int X = 0, Y = 1, Z = 2;
+};
+
+// The sum of two volume sources (a dataset plus an expression).
+template <int DIM>
+class SumSource : public VolumeSource<DIM>
+{
+public:
+  SumSource(std::unique_ptr<VolumeSource<DIM>> a, std::unique_ptr<VolumeSource<DIM>> b,
+    int components)
+    : A(std::move(a))
+    , B(std::move(b))
+    , Scratch(components)
+  {
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    this->A->Evaluate(y, f);
+    this->B->Evaluate(y, this->Scratch.data());
+    for (std::size_t c = 0; c < this->Scratch.size(); ++c)
+    {
+      f[c] += this->Scratch[c];
+    }
+  }
+
+  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
+  {
+    Vec<DIM> lo, hi;
+    if (!this->A->SupportBounds(boxMin, boxMax) || !this->B->SupportBounds(lo, hi))
+    {
+      return false;
+    }
+    boxMin = boxMin.cwiseMin(lo);
+    boxMax = boxMax.cwiseMax(hi);
+    return true;
+  }
+
+private:
+  std::unique_ptr<VolumeSource<DIM>> A, B;
+  std::vector<double> Scratch;
+};
+
+template <int DIM>
+void BoundsOf(vtkDataSet* data, Vec<DIM>& lo, Vec<DIM>& hi)
+{
+  double b[6];
+  data->GetBounds(b);
+  for (int i = 0; i < DIM; ++i)
+  {
+    lo[i] = b[2 * i];
+    hi[i] = b[2 * i + 1];
+  }
+}
+
+template <int DIM>
+std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeImageSource(
+  vtkImageData* image, vtkDataArray* array, int components, double planeZ)
+{
+  auto shared = std::make_shared<typename ImageSource<DIM>::Shared>();
+  image->GetOrigin(shared->Origin.data());
+  image->GetSpacing(shared->Spacing.data());
+  image->GetDimensions(shared->Dims.data());
+  vtkNew<vtkMatrix3x3> inverse;
+  vtkMatrix3x3::Invert(image->GetDirectionMatrix(), inverse);
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      shared->PhysicalToIndex[3 * r + c] = inverse->GetElement(r, c);
+    }
+  }
+  // Origin is the physical position of the image's first point (its extent
+  // may not start at 0): shift it to index 0 of the value array.
+  int extent[6];
+  image->GetExtent(extent);
+  double first[3];
+  image->TransformIndexToPhysicalPoint(extent[0], extent[2], extent[4], first);
+  shared->Origin = { first[0], first[1], first[2] };
+  shared->Components = components;
+  shared->PlaneZ = planeZ;
+  shared->Values = CopyValues(array, components);
+  BoundsOf<DIM>(image, shared->Min, shared->Max);
+  for (int i = 0; i < DIM; ++i)
+  {
+    shared->Bounded = shared->Bounded && shared->Dims[i] > 1;
+  }
+  std::shared_ptr<const typename ImageSource<DIM>::Shared> constShared = shared;
+  return [constShared]() -> std::unique_ptr<VolumeSource<DIM>> {
+    return std::make_unique<ImageSource<DIM>>(constShared);
+  };
+}
+
+template <int DIM>
+std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeDataSetSource(
+  vtkDataSet* data, vtkDataArray* array, int components, double planeZ)
+{
+  auto shared = std::make_shared<typename DataSetSource<DIM>::Shared>();
+  // A private shallow copy: the locator and the cells it builds are ours.
+  shared->Data = vtk::TakeSmartPointer(data->NewInstance());
+  shared->Data->ShallowCopy(data);
+  shared->Locator = vtkSmartPointer<vtkStaticCellLocator>::New();
+  shared->Locator->SetDataSet(shared->Data);
+  shared->Locator->BuildLocator();
+  // Build the dataset's lazy cell structures here, on one thread, so the
+  // threads' GetCell calls only read them.
+  if (shared->Data->GetNumberOfCells() > 0)
+  {
+    vtkNew<vtkGenericCell> cell;
+    shared->Data->GetCell(0, cell);
+  }
+  shared->Components = components;
+  shared->PlaneZ = planeZ;
+  shared->Values = CopyValues(array, components);
+  BoundsOf<DIM>(data, shared->Min, shared->Max);
+  std::shared_ptr<const typename DataSetSource<DIM>::Shared> constShared = shared;
+  return [constShared]() -> std::unique_ptr<VolumeSource<DIM>> {
+    return std::make_unique<DataSetSource<DIM>>(constShared);
+  };
+}
+
+template <int DIM>
+Vec<DIM> PointOf(vtkDataSet* data, vtkIdType id)
+{
+  double p[3];
+  data->GetPoint(id, p);
+  Vec<DIM> v;
+  for (int i = 0; i < DIM; ++i)
+  {
+    v[i] = p[i];
+  }
+  return v;
+}
+
+// Vertices become point sources, lines curve sources; strengths from the
+// point array. Polygons and strips carry no point or curve measure.
+template <int DIM>
+bool ConvertConcentrated(vtkPolyData* poly, vtkDataArray* array, int components,
+  SourceDescription<DIM>& out, std::string& reason)
+{
+  const int nc = array->GetNumberOfComponents();
+  auto strength = [&](vtkIdType id, std::vector<double>& dst) {
+    for (int c = 0; c < components; ++c)
+    {
+      dst.push_back(array->GetComponent(id, nc == 1 ? 0 : c));
+    }
+  };
+  try
+  {
+    if (poly->GetNumberOfVerts() > 0)
+    {
+      std::vector<Vec<DIM>> positions;
+      std::vector<double> strengths;
+      auto it = vtk::TakeSmartPointer(poly->GetVerts()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n;
+        const vtkIdType* ids;
+        it->GetCurrentCell(n, ids);
+        for (vtkIdType k = 0; k < n; ++k)
+        {
+          positions.push_back(PointOf<DIM>(poly, ids[k]));
+          strength(ids[k], strengths);
+        }
+      }
+      out.Points = std::make_unique<PointSources<DIM>>();
+      out.Points->Set(std::move(positions), components, std::move(strengths));
+    }
+    if (poly->GetNumberOfLines() > 0)
+    {
+      std::vector<Vec<DIM>> vertices;
+      std::vector<double> strengths;
+      for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+      {
+        vertices.push_back(PointOf<DIM>(poly, i));
+        strength(i, strengths);
+      }
+      std::vector<std::array<std::int64_t, 2>> segments;
+      auto it = vtk::TakeSmartPointer(poly->GetLines()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n;
+        const vtkIdType* ids;
+        it->GetCurrentCell(n, ids);
+        for (vtkIdType k = 0; k + 1 < n; ++k)
+        {
+          segments.push_back({ ids[k], ids[k + 1] });
+        }
+      }
+      out.Curves = std::make_unique<CurveSources<DIM>>();
+      out.Curves->Set(std::move(vertices), std::move(segments), components, std::move(strengths));
+    }
+  }
+  catch (const std::exception& e)
+  {
+    reason = std::string("its point and curve sources are not usable: ") + e.what();
+    return false;
+  }
+  out.IgnoredSurfaceCells = poly->GetNumberOfPolys() + poly->GetNumberOfStrips();
+  return true;
+}
+} // namespace
+
+bool CheckSourceExpression(const std::string& expression, std::string& reason)
+{
+  vtkNew<vtkExprTkFunctionParser> parser;
+  vtkNew<ErrorCollector> errors;
+  parser->AddObserver(vtkCommand::ErrorEvent, errors);
+  parser->SetFunction(expression.c_str());
+  parser->SetScalarVariableValue("x", 0.0);
+  parser->SetScalarVariableValue("y", 0.0);
+  parser->SetScalarVariableValue("z", 0.0);
+  if (!parser->IsScalarResult())
+  {
+    reason = errors->Message.empty() ? std::string("it does not evaluate to a scalar")
+                                     : errors->Message;
+    // Keep only the first line of the parser's message.
+    const std::size_t newline = reason.find('\n');
+    if (newline != std::string::npos)
+    {
+      reason.resize(newline);
+    }
+    return false;
+  }
+  return true;
+}
+
+template <int DIM>
+bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
+  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason)
+{
+  std::function<std::unique_ptr<VolumeSource<DIM>>()> dataset;
+  if (source && source->GetNumberOfPoints() > 0)
+  {
+    if (!array)
+    {
+      reason = "the Source input has no point array to use as the source term";
+      return false;
+    }
+    if (array->GetNumberOfComponents() != 1 && array->GetNumberOfComponents() != components)
+    {
+      reason = "the source array '" + std::string(array->GetName() ? array->GetName() : "") +
+        "' has " + std::to_string(array->GetNumberOfComponents()) +
+        " components; it needs 1 or as many as the boundary values (" +
+        std::to_string(components) + ")";
+      return false;
+    }
+    for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t)
+    {
+      for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+      {
+        if (!std::isfinite(array->GetComponent(t, c)))
+        {
+          reason = "the source array has NaN or infinite values";
+          return false;
+        }
+      }
+    }
+    if (auto* poly = vtkPolyData::SafeDownCast(source))
+    {
+      if (!ConvertConcentrated<DIM>(poly, array, components, out, reason))
+      {
+        return false;
+      }
+    }
+    else if (auto* image = vtkImageData::SafeDownCast(source))
+    {
+      dataset = MakeImageSource<DIM>(image, array, components, planeZ);
+    }
+    else
+    {
+      dataset = MakeDataSetSource<DIM>(source, array, components, planeZ);
+    }
+  }
+
+  std::function<std::unique_ptr<VolumeSource<DIM>>()> parsed;
+  if (!expression.empty())
+  {
+    if (!CheckSourceExpression(expression, reason))
+    {
+      reason = "the SourceExpression '" + expression + "' does not parse: " + reason;
+      return false;
+    }
+    parsed = [expression, components, planeZ]() -> std::unique_ptr<VolumeSource<DIM>> {
+      return std::make_unique<ExpressionSource<DIM>>(expression, components, planeZ);
+    };
+  }
+
+  if (dataset && parsed)
+  {
+    out.MakeVolume = [dataset, parsed, components]() -> std::unique_ptr<VolumeSource<DIM>> {
+      return std::make_unique<SumSource<DIM>>(dataset(), parsed(), components);
+    };
+  }
+  else
+  {
+    out.MakeVolume = dataset ? dataset : parsed;
+  }
+  return true;
+}
+
+template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
+  SourceDescription<2>&, std::string&);
+template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
+  SourceDescription<3>&, std::string&);
+} // namespace gridfree

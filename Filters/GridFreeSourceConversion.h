@@ -1,0 +1,65 @@
+// Turns the solver's source inputs into the estimator core's source terms:
+// - a vtkImageData point array: trilinear interpolation straight from the
+//   voxels (no locator), zero outside the image;
+// - any other vtkDataSet point array: the cell containing y (a static cell
+//   locator) and its interpolation weights, zero outside every cell;
+// - a vtkPolyData with vertices and/or lines: point and curve sources with
+//   the point array as strength;
+// - an expression in x, y, z (vtkExprTkFunctionParser, one per thread).
+// Private to the GridFree::Filters module.
+#ifndef GridFreeSourceConversion_h
+#define GridFreeSourceConversion_h
+
+#include "ConcentratedSources.h"
+#include "SourceTerms.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+
+class vtkDataArray;
+class vtkDataSet;
+
+namespace gridfree
+{
+template <int DIM>
+struct SourceDescription
+{
+  std::unique_ptr<PointSources<DIM>> Points;
+  std::unique_ptr<CurveSources<DIM>> Curves;
+  // Makes one thread's volume source (sum of dataset and expression); empty
+  // when there is no volume source.
+  std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeVolume;
+  // What was found, for the filter's messages.
+  long long IgnoredSurfaceCells = 0;
+
+  bool Empty() const { return !this->Points && !this->Curves && !this->MakeVolume; }
+  ConcentratedSourceSet<DIM> Concentrated() const
+  {
+    ConcentratedSourceSet<DIM> set;
+    set.Points = this->Points.get();
+    set.Curves = this->Curves.get();
+    return set;
+  }
+};
+
+// Builds the source terms from an optional dataset with its point array and
+// an optional expression, for a solution with `components` components (a
+// one-component source applies to every component). In 2D, datasets and
+// expressions are sampled in the plane z = planeZ. Returns false with a
+// reason when the inputs cannot be used.
+template <int DIM>
+bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
+  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason);
+
+extern template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int,
+  double, SourceDescription<2>&, std::string&);
+extern template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int,
+  double, SourceDescription<3>&, std::string&);
+
+// Checks that an expression in x, y, z parses to a scalar; returns false
+// with the parser's message otherwise.
+bool CheckSourceExpression(const std::string& expression, std::string& reason);
+} // namespace gridfree
+
+#endif
