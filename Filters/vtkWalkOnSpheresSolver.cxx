@@ -626,7 +626,12 @@ int vtkWalkOnSpheresSolver::RequestData(
     }
     if (!inputs.SourceArray)
     {
+      // No selection: the active point scalars, else the only point array.
       inputs.SourceArray = source->GetPointData()->GetScalars();
+      if (!inputs.SourceArray && source->GetPointData()->GetNumberOfArrays() == 1)
+      {
+        inputs.SourceArray = source->GetPointData()->GetArray(0);
+      }
     }
     if (inputs.SourceArray && sourceAssociation != vtkDataObject::FIELD_ASSOCIATION_POINTS)
     {

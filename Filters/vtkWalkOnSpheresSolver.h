@@ -32,7 +32,8 @@
  *
  * Input port 2, "Source", is optional: the source term f of the Poisson and
  * screened Poisson equations, from the point array chosen with
- * SetInputArrayToProcess(2, ...) (default: the active point scalars).
+ * SetInputArrayToProcess(2, ...) (default: the active point scalars, or the
+ * only point array).
  * - a vtkImageData is interpolated trilinearly from its voxels (a CT volume
  *   as the source), zero outside the image;
  * - a vtkPolyData with vertices and lines gives point sources s·δ_z and
