@@ -16,6 +16,8 @@ from vtkmodules.vtkCommonDataModel import (  # noqa: E402
     vtkPolyData,
 )
 
+from vtkmodules.vtkFiltersGeneral import vtkImageDataToPointSet  # noqa: E402
+
 from gridfree_testing import (  # noqa: E402
     MessageCatcher,
     add_point_array,
@@ -90,8 +92,7 @@ def test_poisson_with_expression_2d():
     assert_calibrated(solver.GetOutput(), lambda x, y, z: x * x + y * y)
 
 
-def test_poisson_with_an_image_source():
-    # f = 6 sampled on an image that covers the ball: same as the expression.
+def linear_source_image():
     image = vtkImageData()
     image.SetDimensions(9, 9, 9)
     image.SetOrigin(-1.2, -1.2, -1.2)
@@ -103,12 +104,30 @@ def test_poisson_with_an_image_source():
         x, y, z = image.GetPoint(i)
         values.SetValue(i, 6.0 + 2.0 * x)  # linear: trilinear interpolation is exact
     image.GetPointData().SetScalars(values)
+    return image
+
+
+def check_linear_source(source):
     boundary = sphere_boundary(lambda x, y, z: x * x + y * y + z * z + x * x * x / 3.0)
     solver = solver_for(boundary, cloud(), equation=gridfree.vtkWalkOnSpheresSolver.POISSON)
-    solver.SetSourceData(image)
+    solver.SetSourceData(source)
     solver.SetInputArrayToProcess(2, 2, 0, POINTS, "f")
     solver.Update()
     assert_calibrated(solver.GetOutput(), lambda x, y, z: x * x + y * y + z * z + x ** 3 / 3.0)
+
+
+def test_poisson_with_an_image_source():
+    # u = |x|^2 + x^3/3 has Δu = 6 + 2x, sampled on an image covering the ball.
+    check_linear_source(linear_source_image())
+
+
+def test_poisson_with_a_structured_grid_source():
+    # The same values on a vtkStructuredGrid: the generic (cell locator) path.
+    converter = vtkImageDataToPointSet()
+    converter.SetInputData(linear_source_image())
+    converter.Update()
+    assert converter.GetOutput().IsA("vtkStructuredGrid")
+    check_linear_source(converter.GetOutput())
 
 
 def test_point_sources_from_vertices():
