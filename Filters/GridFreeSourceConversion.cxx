@@ -221,7 +221,8 @@ private:
   std::vector<double> Weights;
 };
 
-// An expression in x, y, z; one parser per thread (parsers are not shared).
+// An expression in x, y, z; one parser per block of probe points a thread
+// solves (parsers are never shared between threads).
 template <int DIM>
 class ExpressionSource : public VolumeSource<DIM>
 {

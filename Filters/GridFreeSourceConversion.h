@@ -5,7 +5,8 @@
 //   locator) and its interpolation weights, zero outside every cell;
 // - a vtkPolyData with vertices and/or lines: point and curve sources with
 //   the point array as strength;
-// - an expression in x, y, z (vtkExprTkFunctionParser, one per thread).
+// - an expression in x, y, z (vtkExprTkFunctionParser; each block of probe
+//   points a thread solves gets its own parser).
 // Private to the GridFree::Filters module.
 #ifndef GridFreeSourceConversion_h
 #define GridFreeSourceConversion_h
