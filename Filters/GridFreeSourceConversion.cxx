@@ -64,7 +64,11 @@ std::array<double, 3> ToXYZ(const Vec<DIM>& y, double planeZ)
 
 // Trilinear interpolation in an image's voxels (direct index arithmetic,
 // honouring the image's direction matrix); zero outside the image. An axis
-// with a single sample is constant along that axis.
+// with a single sample is constant along that axis. EvaluateGradient is the
+// exact gradient of that interpolant: the derivative of the trilinear weights
+// in index space, mapped to world coordinates through (direction · spacing)⁻¹.
+// It is continuous inside a voxel and one-sided on the voxels' faces (the
+// voxel that Evaluate uses), and zero outside the image.
 template <int DIM>
 class ImageSource : public VolumeSource<DIM>
 {
@@ -84,10 +88,32 @@ public:
 
   explicit ImageSource(std::shared_ptr<const Shared> shared)
     : Data(std::move(shared))
+    , IndexGradient(3 * static_cast<std::size_t>(this->Data->Components))
   {
   }
 
-  void Evaluate(const Vec<DIM>& y, double* f) override
+  void Evaluate(const Vec<DIM>& y, double* f) override { this->Interpolate<false>(y, f, nullptr); }
+
+  // Writes Components() values and Components() × DIM derivatives, like
+  // Evaluate (the caller's component count is the same by construction).
+  void EvaluateGradient(const Vec<DIM>& y, int, double* f, double* gradient) override
+  {
+    this->Interpolate<true>(y, f, gradient);
+  }
+
+  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
+  {
+    boxMin = this->Data->Min;
+    boxMax = this->Data->Max;
+    return this->Data->Bounded;
+  }
+
+private:
+  // f(y) and, when WithGradient, ∇f(y) (Components × DIM numbers). The value
+  // is accumulated in the same order either way, so both paths write the
+  // same f.
+  template <bool WithGradient>
+  void Interpolate(const Vec<DIM>& y, double* f, double* gradient)
   {
     const Shared& s = *this->Data;
     const std::array<double, 3> p = ToXYZ<DIM>(y, s.PlaneZ);
@@ -113,6 +139,10 @@ public:
       if (!(index[i] >= -1e-9 && index[i] <= top + 1e-9))
       {
         std::fill(f, f + s.Components, 0.0);
+        if (WithGradient)
+        {
+          std::fill(gradient, gradient + s.Components * DIM, 0.0);
+        }
         return;
       }
       index[i] = std::min(std::max(index[i], 0.0), top);
@@ -120,11 +150,17 @@ public:
       frac[i] = index[i] - base[i];
     }
     std::fill(f, f + s.Components, 0.0);
+    double* dIndex = this->IndexGradient.data(); // ∂f_c/∂index_k at [3c + k]
+    if (WithGradient)
+    {
+      std::fill(dIndex, dIndex + 3 * s.Components, 0.0);
+    }
     const std::size_t strideY = static_cast<std::size_t>(s.Dims[0]);
     const std::size_t strideZ = strideY * static_cast<std::size_t>(s.Dims[1]);
     for (int corner = 0; corner < 8; ++corner)
     {
       double w = 1.0;
+      double factor[3]; // the corner's weight factor along each index axis
       std::size_t offset = 0;
       bool skip = false;
       for (int i = 0; i < 3; ++i)
@@ -135,34 +171,75 @@ public:
           skip = true;
           break;
         }
-        w *= bit ? frac[i] : 1.0 - frac[i];
+        factor[i] = bit ? frac[i] : 1.0 - frac[i];
+        w *= factor[i];
         offset += static_cast<std::size_t>(base[i] + bit) *
           (i == 0 ? 1 : (i == 1 ? strideY : strideZ));
       }
-      if (skip || w == 0.0)
+      if (skip)
       {
         continue;
       }
       const float* v = &s.Values[offset * s.Components];
+      if (w != 0.0)
+      {
+        for (int c = 0; c < s.Components; ++c)
+        {
+          f[c] += w * v[c];
+        }
+      }
+      if (WithGradient)
+      {
+        // ∂w/∂index_k: the factor along k becomes ±1 (0 along a
+        // single-sample axis, where f is constant).
+        for (int k = 0; k < 3; ++k)
+        {
+          if (s.Dims[k] == 1)
+          {
+            continue;
+          }
+          const double sign = ((corner >> k) & 1) ? 1.0 : -1.0;
+          const double dw = sign * factor[(k + 1) % 3] * factor[(k + 2) % 3];
+          if (dw == 0.0)
+          {
+            continue;
+          }
+          for (int c = 0; c < s.Components; ++c)
+          {
+            dIndex[3 * c + k] += dw * v[c];
+          }
+        }
+      }
+    }
+    if (WithGradient)
+    {
+      // index_k = Σ_j PhysicalToIndex[k][j]·(p_j − origin_j) / spacing_k, so
+      // ∂f/∂p_j = Σ_k ∂f/∂index_k · PhysicalToIndex[k][j] / spacing_k. In 2D
+      // y = (p_0, p_1) and p_2 is the fixed plane.
       for (int c = 0; c < s.Components; ++c)
       {
-        f[c] += w * v[c];
+        for (int j = 0; j < DIM; ++j)
+        {
+          double sum = 0.0;
+          for (int k = 0; k < 3; ++k)
+          {
+            sum += dIndex[3 * c + k] * s.PhysicalToIndex[3 * k + j] / s.Spacing[k];
+          }
+          gradient[c * DIM + j] = sum;
+        }
       }
     }
   }
 
-  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
-  {
-    boxMin = this->Data->Min;
-    boxMax = this->Data->Max;
-    return this->Data->Bounded;
-  }
-
-private:
   std::shared_ptr<const Shared> Data;
+  std::vector<double> IndexGradient;
 };
 
 // Any other dataset: the cell containing y and its interpolation weights.
+// EvaluateGradient uses the located cell's own derivative of its
+// interpolation functions (vtkCell::Derivatives), the exact gradient of the
+// interpolant inside that cell; it jumps across cell faces (the cell the
+// locator returns wins) and is zero outside every cell.
 template <int DIM>
 class DataSetSource : public VolumeSource<DIM>
 {
@@ -180,30 +257,38 @@ public:
   explicit DataSetSource(std::shared_ptr<const Shared> shared)
     : Data(std::move(shared))
     , Weights(static_cast<std::size_t>(std::max(1, this->Data->Data->GetMaxCellSize())))
+    , PointValues(this->Weights.size())
   {
   }
 
-  void Evaluate(const Vec<DIM>& y, double* f) override
+  void Evaluate(const Vec<DIM>& y, double* f) override { this->Locate(y, f); }
+
+  void EvaluateGradient(const Vec<DIM>& y, int, double* f, double* gradient) override
   {
     const Shared& s = *this->Data;
-    std::array<double, 3> p = ToXYZ<DIM>(y, s.PlaneZ);
-    std::fill(f, f + s.Components, 0.0);
-    int subId = 0;
-    double pcoords[3];
-    const vtkIdType cell =
-      s.Locator->FindCell(p.data(), 0.0, this->Cell, subId, pcoords, this->Weights.data());
-    if (cell < 0)
+    std::fill(gradient, gradient + s.Components * DIM, 0.0);
+    if (!this->Locate(y, f))
     {
       return;
     }
     const vtkIdType n = this->Cell->GetNumberOfPoints();
-    for (vtkIdType k = 0; k < n; ++k)
+    if (static_cast<std::size_t>(n) > this->PointValues.size())
     {
-      const float* v = &s.Values[static_cast<std::size_t>(this->Cell->GetPointId(k)) *
-        static_cast<std::size_t>(s.Components)];
-      for (int c = 0; c < s.Components; ++c)
+      return; // cannot happen: GetMaxCellSize bounds every cell
+    }
+    for (int c = 0; c < s.Components; ++c)
+    {
+      for (vtkIdType k = 0; k < n; ++k)
       {
-        f[c] += this->Weights[k] * v[c];
+        this->PointValues[k] = s.Values[static_cast<std::size_t>(this->Cell->GetPointId(k)) *
+            static_cast<std::size_t>(s.Components) +
+          static_cast<std::size_t>(c)];
+      }
+      double derivs[3] = { 0.0, 0.0, 0.0 };
+      this->Cell->Derivatives(this->SubId, this->PCoords, this->PointValues.data(), 1, derivs);
+      for (int i = 0; i < DIM; ++i)
+      {
+        gradient[c * DIM + i] = derivs[i];
       }
     }
   }
@@ -216,13 +301,44 @@ public:
   }
 
 private:
+  // Finds the cell containing y (kept in Cell, SubId and PCoords) and writes
+  // f(y); false (and f = 0) outside every cell.
+  bool Locate(const Vec<DIM>& y, double* f)
+  {
+    const Shared& s = *this->Data;
+    std::array<double, 3> p = ToXYZ<DIM>(y, s.PlaneZ);
+    std::fill(f, f + s.Components, 0.0);
+    const vtkIdType cell = s.Locator->FindCell(
+      p.data(), 0.0, this->Cell, this->SubId, this->PCoords, this->Weights.data());
+    if (cell < 0)
+    {
+      return false;
+    }
+    const vtkIdType n = this->Cell->GetNumberOfPoints();
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      const float* v = &s.Values[static_cast<std::size_t>(this->Cell->GetPointId(k)) *
+        static_cast<std::size_t>(s.Components)];
+      for (int c = 0; c < s.Components; ++c)
+      {
+        f[c] += this->Weights[k] * v[c];
+      }
+    }
+    return true;
+  }
+
   std::shared_ptr<const Shared> Data;
   vtkNew<vtkGenericCell> Cell;
   std::vector<double> Weights;
+  std::vector<double> PointValues; // one component's values at the cell's points
+  int SubId = 0;
+  double PCoords[3] = { 0.0, 0.0, 0.0 };
 };
 
 // An expression in x, y, z; one parser per block of probe points a thread
-// solves (parsers are never shared between threads).
+// solves (parsers are never shared between threads). Its gradient is the base
+// class's central differences, with the step the factory sets from the
+// problem's length scale (see VolumeSourceFactory).
 template <int DIM>
 class ExpressionSource : public VolumeSource<DIM>
 {
@@ -270,6 +386,7 @@ public:
     : A(std::move(a))
     , B(std::move(b))
     , Scratch(components)
+    , GradientScratch(static_cast<std::size_t>(components) * DIM)
   {
   }
 
@@ -280,6 +397,21 @@ public:
     for (std::size_t c = 0; c < this->Scratch.size(); ++c)
     {
       f[c] += this->Scratch[c];
+    }
+  }
+
+  // The sum of the parts' values and gradients.
+  void EvaluateGradient(const Vec<DIM>& y, int components, double* f, double* gradient) override
+  {
+    this->A->EvaluateGradient(y, components, f, gradient);
+    this->B->EvaluateGradient(y, components, this->Scratch.data(), this->GradientScratch.data());
+    for (std::size_t c = 0; c < this->Scratch.size(); ++c)
+    {
+      f[c] += this->Scratch[c];
+    }
+    for (std::size_t k = 0; k < this->GradientScratch.size(); ++k)
+    {
+      gradient[k] += this->GradientScratch[k];
     }
   }
 
@@ -297,7 +429,7 @@ public:
 
 private:
   std::unique_ptr<VolumeSource<DIM>> A, B;
-  std::vector<double> Scratch;
+  std::vector<double> Scratch, GradientScratch;
 };
 
 template <int DIM>
@@ -313,7 +445,7 @@ void BoundsOf(vtkDataSet* data, Vec<DIM>& lo, Vec<DIM>& hi)
 }
 
 template <int DIM>
-std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeImageSource(
+VolumeSourceFactory<DIM> MakeImageSource(
   vtkImageData* image, vtkDataArray* array, int components, double planeZ)
 {
   auto shared = std::make_shared<typename ImageSource<DIM>::Shared>();
@@ -345,13 +477,13 @@ std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeImageSource(
     shared->Bounded = shared->Bounded && shared->Dims[i] > 1;
   }
   std::shared_ptr<const typename ImageSource<DIM>::Shared> constShared = shared;
-  return [constShared]() -> std::unique_ptr<VolumeSource<DIM>> {
+  return [constShared](double) -> std::unique_ptr<VolumeSource<DIM>> {
     return std::make_unique<ImageSource<DIM>>(constShared);
   };
 }
 
 template <int DIM>
-std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeDataSetSource(
+VolumeSourceFactory<DIM> MakeDataSetSource(
   vtkDataSet* data, vtkDataArray* array, int components, double planeZ)
 {
   auto shared = std::make_shared<typename DataSetSource<DIM>::Shared>();
@@ -373,7 +505,7 @@ std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeDataSetSource(
   shared->Values = CopyValues(array, components);
   BoundsOf<DIM>(data, shared->Min, shared->Max);
   std::shared_ptr<const typename DataSetSource<DIM>::Shared> constShared = shared;
-  return [constShared]() -> std::unique_ptr<VolumeSource<DIM>> {
+  return [constShared](double) -> std::unique_ptr<VolumeSource<DIM>> {
     return std::make_unique<DataSetSource<DIM>>(constShared);
   };
 }
@@ -488,7 +620,7 @@ template <int DIM>
 bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
   int components, double planeZ, SourceDescription<DIM>& out, std::string& reason)
 {
-  std::function<std::unique_ptr<VolumeSource<DIM>>()> dataset;
+  VolumeSourceFactory<DIM> dataset;
   if (source && source->GetNumberOfPoints() > 0)
   {
     if (!array)
@@ -532,7 +664,7 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     }
   }
 
-  std::function<std::unique_ptr<VolumeSource<DIM>>()> parsed;
+  VolumeSourceFactory<DIM> parsed;
   if (!expression.empty())
   {
     if (!CheckSourceExpression(expression, reason))
@@ -540,15 +672,28 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
       reason = "the SourceExpression '" + expression + "' does not parse: " + reason;
       return false;
     }
-    parsed = [expression, components, planeZ]() -> std::unique_ptr<VolumeSource<DIM>> {
-      return std::make_unique<ExpressionSource<DIM>>(expression, components, planeZ);
+    parsed = [expression, components, planeZ](
+               double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
+      auto volume = std::make_unique<ExpressionSource<DIM>>(expression, components, planeZ);
+      // Central differences with a step of 1e-5 of the problem's size:
+      // small against the domain, large against rounding for points within
+      // a few diagonals of it. Without a length scale the base class's step,
+      // 1e-5·max(1, |y|∞) (relative to the point's distance from the
+      // origin), stays.
+      if (lengthScale > 0.0 && std::isfinite(lengthScale))
+      {
+        volume->SetDifferenceStep(1e-5 * lengthScale);
+      }
+      return volume;
     };
   }
 
   if (dataset && parsed)
   {
-    out.MakeVolume = [dataset, parsed, components]() -> std::unique_ptr<VolumeSource<DIM>> {
-      return std::make_unique<SumSource<DIM>>(dataset(), parsed(), components);
+    out.MakeVolume = [dataset, parsed, components](
+                       double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
+      return std::make_unique<SumSource<DIM>>(
+        dataset(lengthScale), parsed(lengthScale), components);
     };
   }
   else

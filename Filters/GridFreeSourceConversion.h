@@ -7,6 +7,8 @@
 //   the point array as strength;
 // - an expression in x, y, z (vtkExprTkFunctionParser; each block of probe
 //   points a thread solves gets its own parser).
+// The volume sources also give their gradients (EvaluateGradient): exact for
+// the image and dataset interpolants, central differences for expressions.
 // Private to the GridFree::Filters module.
 #ifndef GridFreeSourceConversion_h
 #define GridFreeSourceConversion_h
@@ -23,6 +25,15 @@ class vtkDataSet;
 
 namespace gridfree
 {
+// Makes one thread's volume source. lengthScale is the problem's size (the
+// boundary's bounding-box diagonal): sources without an exact gradient (the
+// expression) differentiate by central differences with step
+// 1e-5·lengthScale; a lengthScale that is not positive keeps VolumeSource's
+// default step, 1e-5·max(1, |y|∞). Interpolated data (images, other
+// datasets) have exact gradients and ignore it.
+template <int DIM>
+using VolumeSourceFactory = std::function<std::unique_ptr<VolumeSource<DIM>>(double lengthScale)>;
+
 template <int DIM>
 struct SourceDescription
 {
@@ -30,7 +41,7 @@ struct SourceDescription
   std::unique_ptr<CurveSources<DIM>> Curves;
   // Makes one thread's volume source (sum of dataset and expression); empty
   // when there is no volume source.
-  std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeVolume;
+  VolumeSourceFactory<DIM> MakeVolume;
   // What was found, for the filter's messages.
   long long IgnoredSurfaceCells = 0;
 

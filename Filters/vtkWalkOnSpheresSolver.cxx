@@ -4,6 +4,7 @@
 #include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
+#include "DerivativeWalkOnSpheres.h"
 #include "WalkOnSpheres.h"
 
 #include "vtkAbstractArray.h"
@@ -24,6 +25,7 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <array>
 #include <chrono>
@@ -60,6 +62,117 @@ void AddFieldValue(vtkFieldData* fd, const char* name, double value)
   a->SetValue(0, value);
   fd->AddArray(a);
 }
+
+// The derivative outputs of one solve: gradient (3 per component), Hessian
+// (9 per component, row-major), directional derivative, divergence and curl,
+// each with its variance, and the per-point DerivativeStatus. 2D results are
+// padded with zero z derivatives so VTK's vector and tensor filters apply.
+struct DerivativeArrays
+{
+  vtkSmartPointer<vtkDoubleArray> Gradient, GradientVariance, Hessian, HessianVariance;
+  vtkSmartPointer<vtkDoubleArray> Directional, DirectionalVariance;
+  vtkSmartPointer<vtkDoubleArray> Divergence, DivergenceVariance, Curl, CurlVariance;
+  vtkSmartPointer<vtkUnsignedCharArray> Status;
+
+  void Allocate(
+    const std::string& name, int nc, vtkIdType n, const gridfree::DerivativeRequest& request)
+  {
+    if (request.Gradient)
+    {
+      this->Gradient = MakeArray(name + "_Gradient", 3 * nc, n);
+      this->GradientVariance = MakeArray(name + "_Gradient_Variance", 3 * nc, n);
+    }
+    if (request.Hessian)
+    {
+      this->Hessian = MakeArray(name + "_Hessian", 9 * nc, n);
+      this->HessianVariance = MakeArray(name + "_Hessian_Variance", 9 * nc, n);
+    }
+    if (request.Directional)
+    {
+      this->Directional = MakeArray(name + "_DirectionalDerivative", nc, n);
+      this->DirectionalVariance = MakeArray(name + "_DirectionalDerivative_Variance", nc, n);
+    }
+    if (request.DivergenceCurl)
+    {
+      this->Divergence = MakeArray(name + "_Divergence", 1, n);
+      this->DivergenceVariance = MakeArray(name + "_Divergence_Variance", 1, n);
+      this->Curl = MakeArray(name + "_Curl", 3, n);
+      this->CurlVariance = MakeArray(name + "_Curl_Variance", 3, n);
+    }
+    this->Status = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    this->Status->SetName("DerivativeStatus");
+    this->Status->SetNumberOfTuples(n);
+    this->Status->Fill(2);
+  }
+
+  template <int DIM>
+  void Store(std::size_t i, const gridfree::RunningStatistics& stats,
+    const gridfree::SampleLayout& layout, int nc, int status)
+  {
+    auto put = [&](vtkDoubleArray* m, vtkDoubleArray* v, vtkIdType at, int slot) {
+      m->SetValue(at, slot >= 0 ? stats.GetMean(slot) : 0.0);
+      v->SetValue(at, slot >= 0 ? stats.VarianceOfMean(slot) : 0.0);
+    };
+    const vtkIdType id = static_cast<vtkIdType>(i);
+    for (int c = 0; c < nc; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        if (this->Gradient)
+        {
+          put(this->Gradient, this->GradientVariance, id * 3 * nc + 3 * c + a,
+            a < DIM ? layout.Gradient + c * DIM + a : -1);
+        }
+        for (int b = 0; this->Hessian && b < 3; ++b)
+        {
+          put(this->Hessian, this->HessianVariance, id * 9 * nc + 9 * c + 3 * a + b,
+            a < DIM && b < DIM ? layout.Hessian + (c * DIM + a) * DIM + b : -1);
+        }
+      }
+      if (this->Directional)
+      {
+        put(this->Directional, this->DirectionalVariance, id * nc + c, layout.Directional + c);
+      }
+    }
+    if (this->Divergence)
+    {
+      put(this->Divergence, this->DivergenceVariance, id, layout.Divergence);
+      for (int a = 0; a < 3; ++a)
+      {
+        put(this->Curl, this->CurlVariance, id * 3 + a, layout.Curl + a);
+      }
+    }
+    this->Status->SetValue(id, static_cast<unsigned char>(status));
+  }
+
+  void AddTo(vtkPointData* pd, int nc)
+  {
+    for (vtkDataArray* a : { static_cast<vtkDataArray*>(this->Gradient),
+           static_cast<vtkDataArray*>(this->GradientVariance),
+           static_cast<vtkDataArray*>(this->Hessian),
+           static_cast<vtkDataArray*>(this->HessianVariance),
+           static_cast<vtkDataArray*>(this->Directional),
+           static_cast<vtkDataArray*>(this->DirectionalVariance),
+           static_cast<vtkDataArray*>(this->Divergence),
+           static_cast<vtkDataArray*>(this->DivergenceVariance),
+           static_cast<vtkDataArray*>(this->Curl), static_cast<vtkDataArray*>(this->CurlVariance),
+           static_cast<vtkDataArray*>(this->Status) })
+    {
+      if (a)
+      {
+        pd->AddArray(a);
+      }
+    }
+    if (nc == 1 && this->Gradient)
+    {
+      pd->SetActiveVectors(this->Gradient->GetName());
+    }
+    if (nc == 1 && this->Hessian)
+    {
+      pd->SetActiveTensors(this->Hessian->GetName());
+    }
+  }
+};
 } // namespace
 
 // Everything RequestData resolved from the inputs, handed to the runner.
@@ -166,18 +279,31 @@ public:
     auto steps = MakeArray("WalkSteps", 1, numPoints);
     auto escaped = MakeArray("EscapedFraction", 1, numPoints);
     auto truncated = MakeArray("TruncatedFraction", 1, numPoints);
-    double* meanPtr = mean->GetPointer(0);
-    double* variancePtr = variance->GetPointer(0);
-    double* laplacianPtr = biharmonic ? laplacian->GetPointer(0) : nullptr;
-    double* laplacianVariancePtr = biharmonic ? laplacianVariance->GetPointer(0) : nullptr;
-    double* stepsPtr = steps->GetPointer(0);
-    double* escapedPtr = escaped->GetPointer(0);
-    double* truncatedPtr = truncated->GetPointer(0);
+
+    // Derivatives: the derivative estimator runs whenever a derivative or a
+    // control variate is asked for (the value's control needs the gradient).
+    gridfree::DerivativeRequest request;
+    request.Gradient = self->ComputeGradient;
+    request.Hessian = self->ComputeHessian;
+    request.ControlVariates = self->ControlVariates;
+    request.Directional = self->ComputeDirectionalDerivative;
+    request.Direction = { self->DerivativeDirection[0], self->DerivativeDirection[1],
+      self->DerivativeDirection[2] };
+    request.DivergenceCurl = self->ComputeGradient && nc == 3;
+    const bool derivativeWalks = request.Gradient || request.Hessian || request.Directional ||
+      request.ControlVariates;
+    const bool anyDerivative = request.Gradient || request.Hessian || request.Directional;
+    DerivativeArrays derivatives;
+    if (anyDerivative)
+    {
+      derivatives.Allocate(in.Name, nc, numPoints, request);
+    }
 
     const int walks = self->WalksPerPoint;
     const std::uint64_t seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(self->Seed));
     std::mutex totalsMutex;
     gridfree::WalkCounters totals;
+    std::array<vtkIdType, 3> statusCounts = { 0, 0, 0 };
     bool unboundedSource = false;
 
     const auto start = std::chrono::steady_clock::now();
@@ -185,37 +311,70 @@ public:
       static_cast<std::size_t>(numPoints), self->NumberOfThreads,
       [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
         std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-          sources.MakeVolume ? sources.MakeVolume() : nullptr;
-        gridfree::WalkOnSpheresEstimator<DIM> estimator(
-          geometry, settings, volume.get(), concentrated);
-        gridfree::RunningStatistics stats(outputComponents);
+          sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
         gridfree::WalkCounters sum;
-        for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
-        {
-          stats.Reset();
-          gridfree::WalkCounters counters;
-          estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+        std::array<vtkIdType, 3> counts = { 0, 0, 0 };
+        bool bounded = true;
+        // Copies one point's statistics to the output arrays.
+        auto store = [&](std::size_t i, const gridfree::RunningStatistics& stats, int valueAt,
+                       int laplacianAt, const gridfree::WalkCounters& counters) {
           for (int c = 0; c < nc; ++c)
           {
-            meanPtr[i * nc + c] = stats.GetMean(c);
-            variancePtr[i * nc + c] = stats.VarianceOfMean(c);
-          }
-          if (biharmonic)
-          {
-            for (int c = 0; c < nc; ++c)
+            mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
+            variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
+            if (biharmonic)
             {
-              laplacianPtr[i * nc + c] = stats.GetMean(nc + c);
-              laplacianVariancePtr[i * nc + c] = stats.VarianceOfMean(nc + c);
+              laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
+              laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
             }
           }
-          stepsPtr[i] = counters.MeanSteps();
-          escapedPtr[i] = counters.EscapedFraction();
-          truncatedPtr[i] = counters.TruncatedFraction();
+          steps->SetValue(i, counters.MeanSteps());
+          escaped->SetValue(i, counters.EscapedFraction());
+          truncated->SetValue(i, counters.TruncatedFraction());
           sum.Add(counters);
+        };
+        if (derivativeWalks)
+        {
+          gridfree::DerivativeWalkOnSpheres<DIM> estimator(
+            geometry, settings, request, volume.get(), concentrated);
+          const gridfree::SampleLayout& layout = estimator.Layout();
+          gridfree::RunningStatistics stats(layout.Size);
+          for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+          {
+            stats.Reset();
+            gridfree::WalkCounters counters;
+            const auto status =
+              estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+            counts[static_cast<int>(status)] += 1;
+            store(i, stats, layout.Value, layout.Laplacian, counters);
+            if (anyDerivative)
+            {
+              derivatives.Store<DIM>(i, stats, layout, nc, static_cast<int>(status));
+            }
+          }
+          bounded = estimator.SourceSupportIsBounded();
+        }
+        else
+        {
+          gridfree::WalkOnSpheresEstimator<DIM> estimator(
+            geometry, settings, volume.get(), concentrated);
+          gridfree::RunningStatistics stats(outputComponents);
+          for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+          {
+            stats.Reset();
+            gridfree::WalkCounters counters;
+            estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+            store(i, stats, 0, nc, counters);
+          }
+          bounded = estimator.SourceSupportIsBounded();
         }
         std::lock_guard<std::mutex> lock(totalsMutex);
         totals.Add(sum);
-        unboundedSource = unboundedSource || !estimator.SourceSupportIsBounded();
+        for (int k = 0; k < 3; ++k)
+        {
+          statusCounts[k] += counts[k];
+        }
+        unboundedSource = unboundedSource || !bounded;
       },
       [self](double fraction) {
         self->UpdateProgress(fraction);
@@ -240,6 +399,10 @@ public:
     pd->AddArray(escaped);
     pd->AddArray(truncated);
     pd->SetActiveScalars(mean->GetName());
+    if (anyDerivative)
+    {
+      derivatives.AddTo(pd, nc);
+    }
 
     vtkFieldData* fd = in.Output->GetFieldData();
     AddFieldValue(fd, "TotalWalks", static_cast<double>(totals.Walks));
@@ -265,6 +428,12 @@ public:
       vtkWarningWithObjectMacro(self, << "Walks reached the exterior region, where the "
                                          "SourceExpression is taken as zero beyond a sphere "
                                          "around the boundary and the Source input.");
+    }
+    if (anyDerivative && (statusCounts[1] > 0 || statusCounts[2] > 0))
+    {
+      vtkDebugWithObjectMacro(self, << statusCounts[1] << " probe points lie closer than Epsilon "
+                                    << "to the boundary and got one-sided derivatives; "
+                                    << statusCounts[2] << " got none (see DerivativeStatus).");
     }
     if (totals.Truncated > 0)
     {
@@ -689,6 +858,13 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxSteps: " << this->MaxSteps << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "ComputeGradient: " << (this->ComputeGradient ? "On" : "Off") << "\n";
+  os << indent << "ComputeHessian: " << (this->ComputeHessian ? "On" : "Off") << "\n";
+  os << indent << "ControlVariates: " << (this->ControlVariates ? "On" : "Off") << "\n";
+  os << indent << "ComputeDirectionalDerivative: "
+     << (this->ComputeDirectionalDerivative ? "On" : "Off") << "\n";
+  os << indent << "DerivativeDirection: " << this->DerivativeDirection[0] << " "
+     << this->DerivativeDirection[1] << " " << this->DerivativeDirection[2] << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
   os << indent << "LastDimension: " << this->LastDimension << "\n";

@@ -53,7 +53,15 @@
  *   exterior problem (they contribute the value at infinity, 0: an exact part
  *   of the estimator, not an error);
  * - `TruncatedFraction`: fraction of walks stopped at MaxSteps (they take the
- *   value at their current closest boundary point).
+ *   value at their current closest boundary point);
+ * - with ComputeGradient, ComputeHessian or ComputeDirectionalDerivative:
+ *   `T_Gradient`, `T_Hessian`, `T_DirectionalDerivative` (`T_Divergence`,
+ *   `T_Curl` for a 3-component solution), each with its `_Variance`, and
+ *   `DerivativeStatus`: 0 where the first ball is centred at the point,
+ *   1 where the point is closer than Epsilon to the boundary and the
+ *   derivatives are one-sided (estimated 2·Epsilon inside, along the
+ *   direction from the closest boundary point), 2 where no ball could be
+ *   found (derivatives 0).
  * Field data `TotalWalks`, `TotalSteps`, `EscapedWalks`, `TruncatedWalks` and
  * `SolveSeconds` summarize the run.
  *
@@ -178,6 +186,63 @@ public:
 
   ///@{
   /**
+   * Estimate the gradient ∇u from the same walks (default off; paper Sec. 3.1,
+   * Eqns. 13–14): output `T_Gradient` with 3 components per solution
+   * component (∂/∂x, ∂/∂y, ∂/∂z; ∂/∂z = 0 in 2D), set as the active vectors
+   * for a one-component solution, and `T_Gradient_Variance`. It costs one
+   * more source sample pair per walk. For a 3-component solution the output
+   * also holds `T_Divergence` and `T_Curl` (with their variances).
+   */
+  vtkSetMacro(ComputeGradient, bool);
+  vtkGetMacro(ComputeGradient, bool);
+  vtkBooleanMacro(ComputeGradient, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Estimate the Hessian ∇²u (default off; Sec. 3.3, Eqn. 15 and its
+   * integration-by-parts source term, which uses ∇f: the exact gradient of
+   * the interpolated Source input, central differences of the
+   * SourceExpression). Output `T_Hessian` (9 components per solution
+   * component, row-major and symmetric; zero z row and column in 2D), set as
+   * the active tensors for a one-component solution so vtkTensorGlyph draws
+   * it, and `T_Hessian_Variance`.
+   */
+  vtkSetMacro(ComputeHessian, bool);
+  vtkGetMacro(ComputeHessian, bool);
+  vtkBooleanMacro(ComputeHessian, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Control variates (default on; Sec. 4.1): each walk subtracts a
+   * zero-mean term built from the running estimates of the earlier walks at
+   * the same point (the gradient for the value, the mean of u on the first
+   * sphere for the gradient, both for the Hessian). The estimates stay
+   * unbiased and the variance arrays stay honest; derivatives typically get
+   * 10–50 times less variance.
+   */
+  vtkSetMacro(ControlVariates, bool);
+  vtkGetMacro(ControlVariates, bool);
+  vtkBooleanMacro(ControlVariates, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Estimate the directional derivative Z·∇u along DerivativeDirection Z
+   * (default off; Sec. 3.2): `T_DirectionalDerivative` and its variance,
+   * computed walk by walk so the variance is exact. Z is used as given (not
+   * normalized).
+   */
+  vtkSetMacro(ComputeDirectionalDerivative, bool);
+  vtkGetMacro(ComputeDirectionalDerivative, bool);
+  vtkBooleanMacro(ComputeDirectionalDerivative, bool);
+  vtkSetVector3Macro(DerivativeDirection, double);
+  vtkGetVector3Macro(DerivativeDirection, double);
+  ///@}
+
+  ///@{
+  /**
    * Number of random walks per probe point (default 128, at least 2 so a
    * variance can be reported). The standard error falls as 1/sqrt(walks).
    */
@@ -262,6 +327,11 @@ protected:
   int MaxSteps = 10000;
   int Seed = 0;
   int NumberOfThreads = 0;
+  bool ComputeGradient = false;
+  bool ComputeHessian = false;
+  bool ControlVariates = true;
+  bool ComputeDirectionalDerivative = false;
+  double DerivativeDirection[3] = { 1.0, 0.0, 0.0 };
 
   vtkIdType LastNumberOfWalks = 0;
   double LastSolveSeconds = 0.0;

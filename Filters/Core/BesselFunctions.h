@@ -126,6 +126,73 @@ inline double SphericalBesselI1Scaled(double z)
   // and for z >= 1 both parts are non-negative, so no cancellation either.
   return ((z - 1.0) + (z + 1.0) * std::exp(-2.0 * z)) / (2.0 * z * z);
 }
+// e^{-x} I_ℓ(x) / x^ℓ (2D, cylindrical I_ℓ) or e^{-x} i_ℓ(x) / x^ℓ (3D,
+// modified spherical i_ℓ), ℓ = 0, 1, 2: finite and nonzero at x = 0, where
+// they equal 1/(2^ℓ ℓ!) (2D) and 1/(2ℓ+1)!! (3D). The Hessian kernels of a
+// ball (GreensFunctionHessians.h) use them as I_ℓ(sr)/I_ℓ(z) =
+// e^{−(z − sr)} (r/R)^ℓ · B(sr)/B(z), which neither overflows for large z nor
+// cancels for small sr.
+template <int DIM>
+double ScaledBesselOverPower(int ell, double x)
+{
+  static_assert(DIM == 2 || DIM == 3, "2D or 3D only");
+  const double seriesLimit = DIM == 2 ? 2.0 : 3.0;
+  if (x < seriesLimit)
+  {
+    // 2D: I_ℓ(x)/x^ℓ = Σ_k (x²/4)^k / (2^ℓ k! (k+ℓ)!);
+    // 3D: i_ℓ(x)/x^ℓ = Σ_k (x²/2)^k / (k! (2ℓ+2k+1)!!). Positive terms only.
+    double term = 1.0;
+    if (DIM == 2)
+    {
+      for (int j = 1; j <= ell; ++j)
+      {
+        term /= 2.0 * j;
+      }
+    }
+    else
+    {
+      for (int j = 1; j <= ell; ++j)
+      {
+        term /= 2.0 * j + 1.0;
+      }
+    }
+    double sum = term;
+    const double q = DIM == 2 ? 0.25 * x * x : 0.5 * x * x;
+    for (int k = 1; k < 60; ++k)
+    {
+      term *= DIM == 2 ? q / (k * double(k + ell)) : q / (k * (2.0 * ell + 2.0 * k + 1.0));
+      sum += term;
+      if (term < 1e-17 * sum)
+      {
+        break;
+      }
+    }
+    return sum * std::exp(-x);
+  }
+  if (DIM == 2)
+  {
+    return bessel_detail::ScaledI(ell, x) / std::pow(x, ell);
+  }
+  // 3D closed forms, scaled by e^{-x}; for x >= 3 the recurrence
+  // i2 = i0 − 3 i1/x loses less than one digit.
+  const double i0 = -std::expm1(-2.0 * x) / (2.0 * x);
+  if (ell == 0)
+  {
+    return i0;
+  }
+  const double i1 = SphericalBesselI1Scaled(x);
+  if (ell == 1)
+  {
+    return i1 / x;
+  }
+  return (i0 - 3.0 * i1 / x) / (x * x);
+}
+
+// e^{x} K_ν(x) for integer ν >= 0 and x > 0.
+inline double BesselKScaled(int nu, double x)
+{
+  return bessel_detail::ScaledK(nu, x);
+}
 } // namespace gridfree
 
 #endif

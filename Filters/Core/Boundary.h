@@ -76,6 +76,27 @@ public:
     return this->Tree.ClosestPoint(x);
   }
 
+  // Unit normal of a primitive (segment: its left normal; triangle: the
+  // right-handed normal of its vertex order); zero for a degenerate one.
+  // Only used to pick a side for points exactly on the boundary.
+  Vec<DIM> PrimitiveNormal(std::int64_t primitive) const
+  {
+    const Primitive& p = this->Primitives[static_cast<std::size_t>(primitive)];
+    Vec<DIM> n = Vec<DIM>::Zero();
+    if constexpr (DIM == 2)
+    {
+      const Vec<DIM> e = this->Vertices[p[1]] - this->Vertices[p[0]];
+      n << -e[1], e[0];
+    }
+    else
+    {
+      n = (this->Vertices[p[1]] - this->Vertices[p[0]])
+            .cross(this->Vertices[p[2]] - this->Vertices[p[0]]);
+    }
+    const double length = n.norm();
+    return length > 0.0 ? Vec<DIM>(n / length) : Vec<DIM>::Zero();
+  }
+
   // Boundary value g at a closest point: barycentric interpolation of point
   // data, or the primitive's own value for cell data. Writes Components().
   void Evaluate(const ClosestPointResult<DIM>& hit, double* out) const

@@ -117,6 +117,18 @@ public:
     return d * ((invRPowN - this->InvRadiusPowN) / UnitSphereArea<DIM>());
   }
 
+  // |∇_x G| at distance r, so that ∇G = GradientMagnitude(|d|) · d/|d|:
+  // (1/r^{n−1} − r/R^n)/|S|, positive inside the ball and 0 on ∂B.
+  double GradientMagnitude(double r) const
+  {
+    if (r >= this->R || r <= 0.0)
+    {
+      return 0.0;
+    }
+    const double invRPowNMinus1 = DIM == 2 ? 1.0 / r : 1.0 / (r * r);
+    return (invRPowNMinus1 - r * this->InvRadiusPowN) / UnitSphereArea<DIM>();
+  }
+
   // Volume pdf of SampleOffset at |d| = r: G/∫G (App. B, p_G).
   double Density(double r) const { return this->Value(r) / this->Integral(); }
 
@@ -276,6 +288,18 @@ public:
       (1.0 + this->Z) * rho * rho * boundaryDecay * SphericalBesselI1Scaled(sr) /
         this->SphericalI1Z;
     return d * (std::exp(-sr) * bracket / (4.0 * M_PI * r * r * r));
+  }
+
+  // |∇_x G_c| at distance r: ∇G_c = GradientMagnitude(|d|) · d/|d|.
+  double GradientMagnitude(double r) const
+  {
+    if (r >= this->R || r <= 0.0)
+    {
+      return 0.0;
+    }
+    Vec<DIM> d = Vec<DIM>::Zero();
+    d[0] = r;
+    return this->Gradient(d)[0];
   }
 
   // Volume pdf of SampleOffset at |d| = r: G_c/∫G_c (FORMULAS.md §6).

@@ -19,6 +19,7 @@
 #include "Random.h"
 #include "Vector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -43,6 +44,41 @@ public:
   virtual void Evaluate(const Vec<DIM>& y, double* f) = 0;
   // The box outside which f vanishes; false when f has unbounded support.
   virtual bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const = 0;
+
+  // Writes f(y) (components numbers) and ∇f(y) (components × DIM numbers,
+  // gradient[c·DIM + i] = ∂f_c/∂y_i). The Hessian's source term needs ∇f
+  // (paper Sec. 3.3, integration-by-parts form). This default differentiates
+  // Evaluate by central differences with step DifferenceStep (relative to
+  // max(1, |y|∞) when no step was set); sources that know their derivative
+  // exactly (interpolated data) override it.
+  virtual void EvaluateGradient(const Vec<DIM>& y, int components, double* f, double* gradient)
+  {
+    const double scale = std::max(1.0, y.cwiseAbs().maxCoeff());
+    const double h = this->DifferenceStep > 0.0 ? this->DifferenceStep : 1e-5 * scale;
+    // Thread-local scratch: a stateless source may be shared by threads.
+    thread_local std::vector<double> scratch;
+    scratch.resize(2 * static_cast<std::size_t>(components));
+    double* plus = scratch.data();
+    double* minus = plus + components;
+    this->Evaluate(y, f);
+    for (int i = 0; i < DIM; ++i)
+    {
+      Vec<DIM> step = Vec<DIM>::Zero();
+      step[i] = h;
+      this->Evaluate(y + step, plus);
+      this->Evaluate(y - step, minus);
+      for (int c = 0; c < components; ++c)
+      {
+        gradient[c * DIM + i] = (plus[c] - minus[c]) / (2.0 * h);
+      }
+    }
+  }
+
+  // Step of the default EvaluateGradient; 0 chooses 1e-5·max(1, |y|∞).
+  void SetDifferenceStep(double h) { this->DifferenceStep = h; }
+
+private:
+  double DifferenceStep = 0.0;
 };
 
 // The concentrated sources, shared read-only by all threads.

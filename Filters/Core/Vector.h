@@ -6,6 +6,7 @@
 #define GRIDFREE_CORE_VECTOR_H
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace gridfree
 {
@@ -14,6 +15,9 @@ using Vec = Eigen::Matrix<double, DIM, 1>;
 
 template <int DIM>
 using VecF = Eigen::Matrix<float, DIM, 1>;
+
+template <int DIM>
+using Mat = Eigen::Matrix<double, DIM, DIM>;
 
 using Vec2 = Vec<2>;
 using Vec3 = Vec<3>;

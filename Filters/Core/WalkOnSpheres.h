@@ -134,6 +134,32 @@ struct WalkCounters
   }
 };
 
+// The start point of a probe point (its first DIM coordinates); false when
+// one of them is not finite.
+template <int DIM>
+bool ProbeStartPoint(const double probeXYZ[3], Vec<DIM>& x0)
+{
+  bool finite = true;
+  for (int i = 0; i < DIM; ++i)
+  {
+    x0[i] = probeXYZ[i];
+    finite = finite && std::isfinite(probeXYZ[i]);
+  }
+  return finite;
+}
+
+// A non-finite probe point: `walks` NaN samples, so every output is NaN.
+inline void AddNaNSamples(
+  std::vector<double>& sample, int walks, RunningStatistics& stats, WalkCounters& counters)
+{
+  std::fill(sample.begin(), sample.end(), std::numeric_limits<double>::quiet_NaN());
+  for (int w = 0; w < walks; ++w)
+  {
+    stats.Add(sample.data());
+  }
+  counters.Walks += static_cast<std::uint64_t>(walks);
+}
+
 // One thread's estimator. The boundary's values hold Components() numbers
 // per tuple; for the biharmonic equation they are g followed by h (so one
 // closest-point query gives both), and the estimate is u followed by Δu.
@@ -210,26 +236,12 @@ public:
     int walks, RunningStatistics& stats, WalkCounters& counters)
   {
     Vec<DIM> x0;
-    bool finite = true;
-    for (int i = 0; i < DIM; ++i)
+    if (!ProbeStartPoint<DIM>(probeXYZ, x0))
     {
-      x0[i] = probeXYZ[i];
-      finite = finite && std::isfinite(probeXYZ[i]);
-    }
-    if (!finite)
-    {
-      std::fill(this->Sample.begin(), this->Sample.end(),
-        std::numeric_limits<double>::quiet_NaN());
-      for (int w = 0; w < walks; ++w)
-      {
-        stats.Add(this->Sample.data());
-      }
-      counters.Walks += static_cast<std::uint64_t>(walks);
+      AddNaNSamples(this->Sample, walks, stats, counters);
       return;
     }
-    const double escapeRadius = std::max(this->Settings.EscapeRadiusFactor *
-        std::max(this->Geometry.Diagonal(), this->Settings.Epsilon),
-      2.0 * (x0 - this->Geometry.Center()).norm());
+    const double escapeRadius = this->EscapeRadius(x0);
     const std::uint64_t key = PointKey(seed, probeXYZ);
     for (int w = 0; w < walks; ++w)
     {
@@ -243,6 +255,15 @@ public:
       counters.Escaped += end == WalkEnd::Escaped ? 1 : 0;
       counters.Truncated += end == WalkEnd::MaxSteps ? 1 : 0;
     }
+  }
+
+  // Radius of the far sphere for walks from x0 (equations without an
+  // exterior strategy end there).
+  double EscapeRadius(const Vec<DIM>& x0) const
+  {
+    return std::max(this->Settings.EscapeRadiusFactor *
+        std::max(this->Geometry.Diagonal(), this->Settings.Epsilon),
+      2.0 * (x0 - this->Geometry.Center()).norm());
   }
 
 private:

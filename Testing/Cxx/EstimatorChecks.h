@@ -6,6 +6,7 @@
 #define GRIDFREE_TESTING_ESTIMATORCHECKS_H
 
 #include "Boundary.h"
+#include "DerivativeWalkOnSpheres.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
 #include "SourceTerms.h"
@@ -209,6 +210,84 @@ std::vector<Calibration> CheckEstimator(const Boundary<DIM>& boundary,
     r.MeanSteps /= r.Points;
     r.EscapedFraction /= r.Points;
     r.TruncatedFraction /= r.Points;
+  }
+  return result;
+}
+// One quantity a derivative test checks: a slot of the sample layout and the
+// exact value there.
+template <int DIM>
+struct SlotCheck
+{
+  int Slot;
+  Field<DIM> Exact;
+};
+
+// Result of a derivative run: per-point means and variances of every slot.
+struct DerivativeRun
+{
+  std::vector<double> Mean;
+  std::vector<double> Variance;
+  std::vector<DerivativeStatus> Status;
+  int Size = 0;
+};
+
+template <int DIM>
+DerivativeRun RunDerivativeEstimator(const Boundary<DIM>& boundary, const WalkSettings& settings,
+  const DerivativeRequest& request, const std::vector<Vec<DIM>>& points, int walks,
+  std::uint64_t seed, VolumeSource<DIM>* volume = nullptr,
+  const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>(),
+  int threads = 2)
+{
+  DerivativeRun run;
+  run.Size = DerivativeWalkOnSpheres<DIM>(boundary, settings, request, volume, concentrated)
+               .Layout()
+               .Size;
+  run.Mean.resize(points.size() * run.Size);
+  run.Variance.resize(points.size() * run.Size);
+  run.Status.resize(points.size());
+  ParallelForWithProgress(points.size(), threads,
+    [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+      DerivativeWalkOnSpheres<DIM> estimator(boundary, settings, request, volume, concentrated);
+      RunningStatistics stats(run.Size);
+      WalkCounters counters;
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        double xyz[3] = { 0, 0, 0 };
+        for (int k = 0; k < DIM; ++k)
+        {
+          xyz[k] = points[i][k];
+        }
+        stats.Reset();
+        run.Status[i] = estimator.EstimatePoint(xyz, seed, 0, walks, stats, counters);
+        for (int c = 0; c < run.Size; ++c)
+        {
+          run.Mean[i * run.Size + c] = stats.GetMean(c);
+          run.Variance[i * run.Size + c] = stats.VarianceOfMean(c);
+        }
+      }
+    },
+    nullptr);
+  return run;
+}
+
+// Calibration of each checked slot over all points of a run.
+template <int DIM>
+std::vector<Calibration> Calibrate(
+  const DerivativeRun& run, const std::vector<Vec<DIM>>& points, const std::vector<SlotCheck<DIM>>& checks)
+{
+  std::vector<Calibration> result(checks.size());
+  for (std::size_t k = 0; k < checks.size(); ++k)
+  {
+    Calibration& r = result[k];
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      const std::size_t at = i * run.Size + checks[k].Slot;
+      const double z = (run.Mean[at] - checks[k].Exact(points[i])) / std::sqrt(run.Variance[at]);
+      r.MeanZ2 += z * z;
+      r.MaxAbsZ = std::max(r.MaxAbsZ, std::isfinite(z) ? std::abs(z) : 1e300);
+      ++r.Points;
+    }
+    r.MeanZ2 /= r.Points;
   }
   return result;
 }
