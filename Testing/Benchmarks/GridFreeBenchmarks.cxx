@@ -4,6 +4,7 @@
 // Usage: GridFreeBenchmarks [--data skin.vtp] [--queries N] [--walks N]
 // Prints one table; quote ratios, not absolute numbers (shared machines).
 #include "Boundary.h"
+#include "DerivativeWalkOnSpheres.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
 #include "TestMeshes.h"
@@ -21,7 +22,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -153,6 +156,117 @@ void Row(const std::string& mesh, const std::string& what, double ours1, double 
   std::printf("| %-26s | %-34s | %12.0f | %12.0f | %12.0f | %7.1fx |\n", mesh.c_str(), what.c_str(),
     ours1, oursN, vtk1, ours1 / vtk1);
 }
+// Inside a closed triangle mesh: parity of the crossings of a ray in a fixed
+// generic direction (brute force; only used to pick a few hundred points).
+bool IsInside(const testing::SimplexMesh<3>& mesh, const Vec3& p)
+{
+  const Vec3 direction = Vec3(0.5773, 0.6123, 0.5402).normalized();
+  int crossings = 0;
+  for (const auto& t : mesh.Simplices)
+  {
+    const Vec3& a = mesh.Vertices[t[0]];
+    const Vec3 e1 = mesh.Vertices[t[1]] - a;
+    const Vec3 e2 = mesh.Vertices[t[2]] - a;
+    const Vec3 h = direction.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-300)
+    {
+      continue;
+    }
+    const Vec3 s = p - a;
+    const double u = s.dot(h) / det;
+    if (u < 0.0 || u > 1.0)
+    {
+      continue;
+    }
+    const Vec3 q = s.cross(e1);
+    const double v = direction.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0)
+    {
+      continue;
+    }
+    crossings += e2.dot(q) / det > 0.0 ? 1 : 0;
+  }
+  return crossings % 2 == 1;
+}
+
+// Walks per second of one configuration on one thread (best of 3 runs, so a
+// busy moment does not decide the comparison).
+template <typename Walk>
+double BestWalkRate(std::size_t points, int walksPerPoint, Walk walk)
+{
+  double best = 0.0;
+  for (int run = 0; run < 3; ++run)
+  {
+    best = std::max(best, RatePerSecond(points, 1, walk) * walksPerPoint);
+  }
+  return best;
+}
+
+// A smooth source for the Poisson rows: f = 1 + 0.5 sin(x/L) cos(y/L).
+class SmoothSource : public VolumeSource<3>
+{
+public:
+  explicit SmoothSource(double length)
+    : Length(length)
+  {
+  }
+  void Evaluate(const Vec3& y, double* f) override
+  {
+    f[0] = 1.0 + 0.5 * std::sin(y[0] / this->Length) * std::cos(y[1] / this->Length);
+  }
+  bool SupportBounds(Vec3&, Vec3&) const override { return false; }
+
+private:
+  double Length;
+};
+
+// What the derivative estimators cost on top of a value solve: walks/s on
+// one thread for the value alone (no control variates), value + gradient,
+// value + gradient with control variates, and value + gradient + Hessian.
+void DerivativeCostTable(
+  const std::string& name, const Boundary<3>& boundary, const std::vector<Vec3>& starts)
+{
+  const int walksPerPoint = 16;
+  for (Equation equation : { Equation::Laplace, Equation::Poisson })
+  {
+    WalkSettings settings;
+    settings.Epsilon = 1e-4 * boundary.Diagonal();
+    settings.Problem = equation;
+    const bool poisson = equation == Equation::Poisson;
+    auto valueOnly = [&](std::size_t i) {
+      SmoothSource source(0.1 * boundary.Diagonal());
+      WalkOnSpheresEstimator<3> estimator(boundary, settings, poisson ? &source : nullptr);
+      RunningStatistics stats(1);
+      WalkCounters counters;
+      const double xyz[3] = { starts[i][0], starts[i][1], starts[i][2] };
+      estimator.EstimatePoint(xyz, 1, 0, walksPerPoint, stats, counters);
+    };
+    auto withDerivatives = [&](bool hessian, bool controls) {
+      return [&, hessian, controls](std::size_t i) {
+        SmoothSource source(0.1 * boundary.Diagonal());
+        DerivativeRequest request;
+        request.Gradient = true;
+        request.Hessian = hessian;
+        request.ControlVariates = controls;
+        DerivativeWalkOnSpheres<3> estimator(
+          boundary, settings, request, poisson ? &source : nullptr);
+        RunningStatistics stats(estimator.Layout().Size);
+        WalkCounters counters;
+        const double xyz[3] = { starts[i][0], starts[i][1], starts[i][2] };
+        estimator.EstimatePoint(xyz, 1, 0, walksPerPoint, stats, counters);
+      };
+    };
+    const double base = BestWalkRate(starts.size(), walksPerPoint, valueOnly);
+    const double gradient = BestWalkRate(starts.size(), walksPerPoint, withDerivatives(false, false));
+    const double gradientCv = BestWalkRate(starts.size(), walksPerPoint, withDerivatives(false, true));
+    const double hessianCv = BestWalkRate(starts.size(), walksPerPoint, withDerivatives(true, true));
+    const char* eq = poisson ? "Poisson" : "Laplace";
+    std::printf("| %-26s | %-8s | %10.0f | %10.0f (%+5.1f%%) | %10.0f (%+5.1f%%) | %10.0f (%+5.1f%%) |\n",
+      name.c_str(), eq, base, gradient, 100.0 * (base / gradient - 1.0), gradientCv,
+      100.0 * (base / gradientCv - 1.0), hessianCv, 100.0 * (base / hessianCv - 1.0));
+  }
+}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -160,6 +274,7 @@ int main(int argc, char* argv[])
   std::string data;
   int queryCount = 200000;
   int walkPoints = 2000;
+  bool derivativesOnly = false;
   for (int i = 1; i < argc; ++i)
   {
     if (!std::strcmp(argv[i], "--data") && i + 1 < argc)
@@ -173,6 +288,10 @@ int main(int argc, char* argv[])
     else if (!std::strcmp(argv[i], "--walk-points") && i + 1 < argc)
     {
       walkPoints = std::stoi(argv[++i]);
+    }
+    else if (!std::strcmp(argv[i], "--derivatives-only"))
+    {
+      derivativesOnly = true;
     }
   }
   const int allThreads = ResolveThreadCount(0);
@@ -195,6 +314,10 @@ int main(int argc, char* argv[])
 
   for (const Mesh& mesh : meshes)
   {
+    if (derivativesOnly)
+    {
+      break;
+    }
     Boundary<3> boundary;
     const auto buildStart = Clock::now();
     boundary.Set(mesh.Geometry.Vertices, mesh.Geometry.Simplices, ValueAssociation::Points, 1,
@@ -284,6 +407,31 @@ int main(int argc, char* argv[])
     Row(mesh.Name, what, w1, wN, 0.0);
     std::printf("| %-26s | build (s): ours %.3f, VTK %.3f     | %12s | %12s | %12s | %8s |\n",
       mesh.Name.c_str(), buildSeconds, locatorSeconds, "", "", "", "");
+  }
+
+  // Derivative cost, interior points of each mesh (the walks of points
+  // outside are longer, which would only dilute the difference).
+  std::printf("\nCost of derivatives: walks/s on 1 thread (best of 3), 16 walks per point; "
+              "in parentheses the extra time per walk relative to the value alone.\n\n");
+  std::printf("| %-26s | %-8s | %10s | %-21s | %-21s | %-21s |\n", "mesh", "equation",
+    "value", "+ gradient", "+ gradient, CV", "+ gradient + Hessian, CV");
+  std::printf("|%s|%s|%s|%s|%s|%s|\n", std::string(28, '-').c_str(),
+    std::string(10, '-').c_str(), std::string(12, '-').c_str(), std::string(23, '-').c_str(),
+    std::string(23, '-').c_str(), std::string(23, '-').c_str());
+  for (const Mesh& mesh : meshes)
+  {
+    Boundary<3> boundary;
+    boundary.Set(mesh.Geometry.Vertices, mesh.Geometry.Simplices, ValueAssociation::Points, 1,
+      std::vector<double>(mesh.Geometry.Vertices.size(), 1.0));
+    std::vector<Vec3> inside;
+    for (const Vec3& p : MakeQueries(boundary, mesh.Geometry, false, 20 * walkPoints, 13))
+    {
+      if (static_cast<int>(inside.size()) < walkPoints / 4 && IsInside(mesh.Geometry, p))
+      {
+        inside.push_back(p);
+      }
+    }
+    DerivativeCostTable(mesh.Name, boundary, inside);
   }
   return 0;
 }
