@@ -29,6 +29,9 @@ assert fresh.WalksPerPoint == 128
 assert abs(fresh.Epsilon - 1e-4) < 1e-16
 assert fresh.EpsilonIsRelative == 1
 assert fresh.NumberOfThreads == 0
+assert fresh.ComputeGradient == 0 and fresh.ComputeHessian == 0
+assert fresh.ControlVariates == 1
+assert list(fresh.DerivativeDirection) == [1.0, 0.0, 0.0]
 pvs.Delete(fresh)
 
 info = solver.GetDataInformation()
@@ -49,3 +52,33 @@ for i in range(data.GetNumberOfPoints()):
 assert worst < 5.0, worst
 assert data.GetPointData().GetScalars().GetName() == "T"
 print("ok: plugin filter ran, max |z| = %.2f" % worst)
+
+# Gradient and Hessian as a ParaView user turns them on: named arrays, the
+# gradient as active vectors (what Stream Tracer and Glyph pick up) and the
+# Hessian as active tensors (Tensor Glyph), accurate within 5 standard errors.
+solver.ComputeGradient = 1
+solver.ComputeHessian = 1
+solver.UpdatePipeline()
+names = solver.PointData.keys()
+for name in ("T_Gradient", "T_Gradient_Variance", "T_Hessian", "T_Hessian_Variance",
+             "DerivativeStatus"):
+    assert name in names, (name, names)
+data = servermanager.Fetch(solver)
+pd = data.GetPointData()
+assert pd.GetVectors().GetName() == "T_Gradient"
+assert pd.GetTensors().GetName() == "T_Hessian"
+grad, gvar = pd.GetArray("T_Gradient"), pd.GetArray("T_Gradient_Variance")
+worst = 0.0
+for i in range(data.GetNumberOfPoints()):
+    x, y, _ = data.GetPoint(i)
+    for k, exact in enumerate((2 * x, -2 * y, 0.0)):
+        worst = max(worst, abs(grad.GetComponent(i, k) - exact) / math.sqrt(gvar.GetComponent(i, k)))
+assert worst < 5.0, worst
+tracer = pvs.StreamTracer(Input=solver, SeedType="Point Cloud")
+tracer.Vectors = ["POINTS", "T_Gradient"]
+tracer.SeedType.Center = [0.0, 0.0, 0.25]
+tracer.SeedType.Radius = 0.2
+tracer.SurfaceStreamlines = 1  # the probe is a plane: follow the gradient within it
+tracer.UpdatePipeline()
+assert tracer.GetDataInformation().GetNumberOfPoints() > 10
+print("ok: gradient and Hessian arrays, max |z| of the gradient = %.2f" % worst)
