@@ -463,3 +463,30 @@ TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
     }
   }
 }
+
+// Exterior problem (Sec. 2.6): u = 1/|x − p| outside the unit sphere (p inside),
+// u → 0 at infinity. The first ball may be huge; the rest of the walk returns
+// by the exact-return roulette.
+TEST(DerivativeWalkOnSpheres, Exterior3D)
+{
+  const Vec3 p(0.2, -0.1, 0.15);
+  Solution<3> s;
+  s.U = [p](const Vec3& x) { return 1.0 / (x - p).norm(); };
+  s.Gradient = [p](const Vec3& x) {
+    const Vec3 d = x - p;
+    return Vec3(-d / std::pow(d.norm(), 3));
+  };
+  s.Hessian = [p](const Vec3& x) {
+    const Vec3 d = x - p;
+    const double r = d.norm();
+    return Mat<3>(3.0 * d * d.transpose() / std::pow(r, 5) - Mat<3>::Identity() / std::pow(r, 3));
+  };
+  const Boundary<3> boundary = MakeBoundary<3>(UnitSphereMesh<3>(), { s.U });
+  const auto points = RandomPointsInBall<3>(Points, 3.0, 110, 1.2);
+  DerivativeRequest request;
+  request.Gradient = request.Hessian = true;
+  const WalkSettings settings = Settings<3>(Equation::Laplace);
+  const auto run = RunDerivativeEstimator<3>(boundary, settings, request, points, 256, 23);
+  const SampleLayout layout = DerivativeWalkOnSpheres<3>(boundary, settings, request).Layout();
+  ExpectAllCalibrated(Calibrate<3>(run, points, ChecksFor<3>(layout, s, true)), "exterior");
+}
