@@ -219,8 +219,10 @@ public:
    * zero-mean term built from the running estimates of the earlier walks at
    * the same point (the gradient for the value, the mean of u on the first
    * sphere for the gradient, both for the Hessian). The estimates stay
-   * unbiased and the variance arrays stay honest; derivatives typically get
-   * 10–50 times less variance.
+   * unbiased and the variance arrays stay honest. The gain is largest where
+   * u is large compared with its variation over the point's first ball: on
+   * the Poisson problem of the convergence study the gradient's error falls
+   * 3.5×, the Hessian's 4.2×, the value's 1.1× at 1024 walks.
    */
   vtkSetMacro(ControlVariates, bool);
   vtkGetMacro(ControlVariates, bool);
