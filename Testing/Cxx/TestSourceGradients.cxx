@@ -245,6 +245,20 @@ vtkSmartPointer<vtkImageData> MakeRotatedImage()
 }
 
 // Fills a point array with `value(i, j, k, physical point)` per component.
+// A random point strictly inside an image's extent: its continuous index
+// and its world coordinates.
+void RandomPointInImage(vtkImageData* image, std::mt19937_64& rng, double index[3], double p[3])
+{
+  int extent[6];
+  image->GetExtent(extent);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 3; ++i)
+  {
+    index[i] = extent[2 * i] + 0.01 + (extent[2 * i + 1] - extent[2 * i] - 0.02) * unit(rng);
+  }
+  image->TransformContinuousIndexToPhysicalPoint(index, p);
+}
+
 template <class Function>
 vtkSmartPointer<vtkDoubleArray> FillImage(
   vtkImageData* image, const char* name, int components, Function value)
@@ -311,22 +325,18 @@ void TestImageLinear3D(std::mt19937_64& rng)
   {
     return;
   }
-  int extent[6];
-  image->GetExtent(extent);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int n = 0; n < 200; ++n)
   {
     double index[3], p[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      index[i] = extent[2 * i] + 0.01 + (extent[2 * i + 1] - extent[2 * i] - 0.02) * unit(rng);
-    }
-    image->TransformContinuousIndexToPhysicalPoint(index, p);
+    RandomPointInImage(image, rng, index, p);
     const double expected = c[0] * index[0] + c[1] * index[1] + c[2] * index[2] + b;
     CheckGradient<3>("image linear", *source, ToVec<3>(p), 1, { expected },
       { a[0], a[1], a[2] }, 1e-9, 1e-9);
   }
   // Exactly on voxel corners and faces the gradient is still the linear one.
+  int extent[6];
+  image->GetExtent(extent);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int n = 0; n < 20; ++n)
   {
     const int i = extent[0] + static_cast<int>(unit(rng) * (extent[1] - extent[0] + 1) * 0.999);
@@ -597,17 +607,10 @@ void TestSum(std::mt19937_64& rng)
   {
     return;
   }
-  int extent[6];
-  image->GetExtent(extent);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int n = 0; n < 100; ++n)
   {
     double index[3], p[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      index[i] = extent[2 * i] + 0.01 + (extent[2 * i + 1] - extent[2 * i] - 0.02) * unit(rng);
-    }
-    image->TransformContinuousIndexToPhysicalPoint(index, p);
+    RandomPointInImage(image, rng, index, p);
     const double e = p[0] * p[0] + 3 * p[1] - p[2];
     const double ge[3] = { 2 * p[0], 3.0, -1.0 };
     const double f0 = c[0][0] * index[0] + c[0][1] * index[1] + c[0][2] * index[2] + b[0] + e;
