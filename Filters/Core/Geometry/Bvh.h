@@ -1,4 +1,4 @@
-// Bounding volume hierarchy for closest-point and distance queries to a
+// Bounding volume hierarchy for closest-point, distance and ray queries to a
 // boundary made of segments (DIM = 2) or triangles (DIM = 3).
 //
 // Walk on spheres asks for the distance to the boundary at every step of every
@@ -25,6 +25,12 @@
 // * Traversal is nearest child first with a small fixed stack; Distance()
 //   tracks only the squared distance, and ClosestPoint() evaluates the
 //   barycentric weights once, for the winning primitive.
+// * Ray queries (Intersect, Occluded) reuse the same nodes: a float slab test
+//   per 4 boxes whose intervals are widened for every rounding (it never
+//   drops a box the ray enters), nearest child first, pruned by the best hit.
+//   Primitive tests are watertight: the ray/triangle test of Woop, Benthin
+//   and Wald (2013), with exact signs for the edge functions; in 2D, exact
+//   orientation signs of the segment ends.
 //
 // Limitation: box distances are computed in float, so for coordinates beyond
 // ~1e18 they may overflow to inf; the answer stays correct but pruning is lost.
@@ -33,6 +39,7 @@
 #define GRIDFREE_CORE_GEOMETRY_BVH_H
 
 #include "Geometry/BoundingBox.h"
+#include "Geometry/ClosestPointResult.h"
 #include "Geometry/ClosestPointPrimitives.h"
 #include "Vector.h"
 
@@ -44,6 +51,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #if defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
@@ -53,15 +61,6 @@
 
 namespace gridfree
 {
-template <int DIM>
-struct ClosestPointResult
-{
-  Vec<DIM> point = Vec<DIM>::Constant(std::numeric_limits<double>::infinity());
-  double distance = std::numeric_limits<double>::infinity();
-  std::int64_t primitive = -1;
-  Vec<DIM> barycentric = Vec<DIM>::Zero();
-};
-
 namespace detail
 {
 /// The primitive of a DIM-dimensional boundary: segments in 2D, triangles in
@@ -135,7 +134,295 @@ inline float PruneThreshold(double best2)
   const float t = static_cast<float>(best2) * (1.0f + 0x1p-19f);
   return t > FLT_MIN ? t : FLT_MIN;
 }
+
+//------------------------------------------------------------------------------
+// Exact sign arithmetic for the ray kernels. All of it is exact for finite
+// inputs whose products neither overflow nor underflow (magnitudes between
+// about 1e-150 and 1e150); the fused multiply-add gives the rounding error of
+// a product, and sums never need fused operations.
+
+/// Sign of a * b - c * d, exact. Rounding is monotone, so distinct rounded
+/// products order the exact ones; equal rounded products differ only by
+/// their (exactly representable) rounding errors.
+inline int SignOfDifferenceOfProducts(double a, double b, double c, double d)
+{
+  const double p = a * b;
+  const double q = c * d;
+  if (p != q)
+  {
+    return p > q ? 1 : -1;
+  }
+  const double ep = std::fma(a, b, -p);
+  const double eq = std::fma(c, d, -q);
+  return (ep > eq) - (ep < eq);
+}
+
+/// a * b - c * d in double, with its sign made exact: when rounding could
+/// have flipped or zeroed the sign, the magnitude is kept and the sign is
+/// recomputed exactly (0 if the exact value is 0). Two primitives sharing an
+/// edge evaluate the same products, so they always agree on which side of
+/// that edge the ray passes, whatever the compiler fuses.
+inline double ExactSignedDifferenceOfProducts(double a, double b, double c, double d)
+{
+  const double p = a * b;
+  const double q = c * d;
+  const double e = p - q;
+  // The computed difference is within 2^-51 (|p| + |q|) of the exact one.
+  if (std::abs(e) > 0x1p-50 * (std::abs(p) + std::abs(q)))
+  {
+    return e;
+  }
+  const int s = SignOfDifferenceOfProducts(a, b, c, d);
+  return s > 0 ? std::abs(e) : (s < 0 ? -std::abs(e) : 0.0);
+}
+
+/// Error-free sum (Knuth): s + e == a + b exactly.
+inline void TwoSum(double a, double b, double& s, double& e)
+{
+  s = a + b;
+  const double bv = s - a;
+  e = (a - (s - bv)) + (b - bv);
+}
+
+/// Adds x to the nonoverlapping expansion e[0..n) (increasing magnitude),
+/// dropping zero components (Shewchuk's grow-expansion).
+inline void GrowExpansion(double* e, int& n, double x)
+{
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    double s, err;
+    TwoSum(x, e[i], s, err);
+    x = s;
+    if (err != 0.0)
+    {
+      e[m++] = err;
+    }
+  }
+  if (x != 0.0)
+  {
+    e[m++] = x;
+  }
+  n = m;
+}
+
+/// Adds the exact product a * b * c (four doubles) to an expansion.
+inline void GrowExpansionByProduct(double* e, int& n, double a, double b, double c)
+{
+  if (a == 0.0 || b == 0.0 || c == 0.0)
+  {
+    return;
+  }
+  const double p = a * b;
+  const double pe = std::fma(a, b, -p);
+  const double q = p * c;
+  GrowExpansion(e, n, std::fma(p, c, -q));
+  GrowExpansion(e, n, q);
+  if (pe != 0.0)
+  {
+    const double r = pe * c;
+    GrowExpansion(e, n, std::fma(pe, c, -r));
+    GrowExpansion(e, n, r);
+  }
+}
+
+/// True unless the direction d is exactly parallel to the plane of the
+/// triangle (v0, v1, v2), i.e. d . ((v1 - v0) x (v2 - v0)) == 0 exactly; a
+/// zero-area triangle is parallel to every direction. Rounded first, exact
+/// (expansion arithmetic on the exact edge vectors) only when ambiguous.
+inline bool CrossesPlane(const Vec3& v0, const Vec3& v1, const Vec3& v2, const Vec3& d)
+{
+  const Vec3 e1 = v1 - v0;
+  const Vec3 e2 = v2 - v0;
+  double dot = 0.0;
+  double bound = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int i = (k + 1) % 3;
+    const int j = (k + 2) % 3;
+    const double p = e1[i] * e2[j];
+    const double q = e1[j] * e2[i];
+    dot += d[k] * (p - q);
+    bound += std::abs(d[k]) * (std::abs(p) + std::abs(q));
+  }
+  // Rounding of the edge vectors, products, differences and sums stays far
+  // below 2^-45 of the sum of the magnitudes.
+  if (std::abs(dot) > 0x1p-45 * bound)
+  {
+    return true;
+  }
+  double hi1[3], lo1[3], hi2[3], lo2[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    TwoSum(v1[k], -v0[k], hi1[k], lo1[k]);
+    TwoSum(v2[k], -v0[k], hi2[k], lo2[k]);
+  }
+  double e[100]; // at most 3 axes * 2 products * 4 parts * 4 terms components
+  int n = 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int i = (k + 1) % 3;
+    const int j = (k + 2) % 3;
+    const double a[2] = { hi1[i], lo1[i] };
+    const double b[2] = { hi2[j], lo2[j] };
+    const double c[2] = { hi1[j], lo1[j] };
+    const double f[2] = { hi2[i], lo2[i] };
+    for (int x = 0; x < 2; ++x)
+    {
+      for (int y = 0; y < 2; ++y)
+      {
+        GrowExpansionByProduct(e, n, d[k], a[x], b[y]);
+        GrowExpansionByProduct(e, n, -d[k], c[x], f[y]);
+      }
+    }
+  }
+  return n > 0; // the largest component of a nonzero expansion is nonzero
+}
+
+/// Per-ray constants of the primitive tests.
+///
+/// 3D follows the watertight ray/triangle test of Woop, Benthin and Wald
+/// (2013): vertices are translated to the ray origin and sheared so that the
+/// ray becomes the +z axis of a permuted frame (z = the dominant direction
+/// axis); the triangle is hit iff the origin of the projected xy plane lies
+/// inside the projected triangle, decided by the signs of three 2D edge
+/// functions. The sheared coordinates of a vertex depend only on the vertex
+/// and the ray, so neighbouring triangles see the same numbers along a shared
+/// edge; with the edge signs exact (ExactSignedDifferenceOfProducts, the
+/// higher-precision fallback of the paper), a ray through an edge or vertex
+/// of a closed mesh hits at least one of the triangles around it.
+template <int DIM>
+struct RayFrame;
+
+template <>
+struct RayFrame<3>
+{
+  Vec3 Origin;
+  Vec3 Direction;
+  int Kx, Ky, Kz;
+  double Sx, Sy, Sz;
+
+  RayFrame(const Vec3& origin, const Vec3& direction)
+    : Origin(origin)
+    , Direction(direction)
+  {
+    direction.cwiseAbs().maxCoeff(&this->Kz);
+    this->Kx = (this->Kz + 1) % 3;
+    this->Ky = (this->Kx + 1) % 3;
+    if (direction[this->Kz] < 0.0)
+    {
+      std::swap(this->Kx, this->Ky); // keeps the winding of the projection
+    }
+    this->Sx = direction[this->Kx] / direction[this->Kz];
+    this->Sy = direction[this->Ky] / direction[this->Kz];
+    this->Sz = 1.0 / direction[this->Kz];
+  }
+
+  /// Hit of the triangle with t in [tMin, tMax]: t and the weights of v[0..2].
+  /// Rays parallel to the triangle's plane (including rays in that plane)
+  /// and zero-area triangles never hit.
+  bool Intersect(const Vec3 (&v)[3], double tMin, double tMax, double& t, Vec3& w) const
+  {
+    double px[3], py[3], pz[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      const Vec3 p = v[i] - this->Origin;
+      px[i] = p[this->Kx] - this->Sx * p[this->Kz];
+      py[i] = p[this->Ky] - this->Sy * p[this->Kz];
+      pz[i] = this->Sz * p[this->Kz];
+    }
+    // Edge functions; each one is the weight of the opposite vertex.
+    const double u = ExactSignedDifferenceOfProducts(px[2], py[1], py[2], px[1]);
+    const double s = ExactSignedDifferenceOfProducts(px[0], py[2], py[0], px[2]);
+    const double r = ExactSignedDifferenceOfProducts(px[1], py[0], py[1], px[0]);
+    if ((u < 0.0 || s < 0.0 || r < 0.0) && (u > 0.0 || s > 0.0 || r > 0.0))
+    {
+      return false;
+    }
+    // Same-signed terms: det is 0 only if all are (degenerate projection).
+    const double det = u + s + r;
+    if (det == 0.0)
+    {
+      return false;
+    }
+    const double tHit = (u * pz[0] + s * pz[1] + r * pz[2]) / det;
+    if (!(tHit >= tMin && tHit <= tMax) || !std::isfinite(tHit))
+    {
+      return false;
+    }
+    // The projection of a triangle parallel to the ray has zero area only in
+    // exact arithmetic; rounding of the shear can leave a sliver around the
+    // ray. Reject those exactly (rare: only reached for an accepted hit).
+    if (!CrossesPlane(v[0], v[1], v[2], this->Direction))
+    {
+      return false;
+    }
+    t = tHit;
+    w = Vec3(u, s, r) / det;
+    return true;
+  }
+};
+
+/// 2D: the side of the ray line of each segment end is the exact sign of
+/// cross(d, p - o) (for the rounded p - o, the same number for both segments
+/// sharing a vertex), so a ray through a vertex of a closed polyline hits
+/// at least one of its segments. t is interpolated, as in 3D, along the
+/// dominant axis of the direction.
+template <>
+struct RayFrame<2>
+{
+  Vec2 Origin;
+  Vec2 Direction;
+  int Kz;
+  double Sz;
+
+  RayFrame(const Vec2& origin, const Vec2& direction)
+    : Origin(origin)
+    , Direction(direction)
+  {
+    this->Kz = std::abs(direction[1]) > std::abs(direction[0]) ? 1 : 0;
+    this->Sz = 1.0 / direction[this->Kz];
+  }
+
+  /// Hit of the segment with t in [tMin, tMax]: t and the weights of v[0..1].
+  /// Segments along the ray line and zero-length segments never hit.
+  bool Intersect(const Vec2 (&v)[2], double tMin, double tMax, double& t, Vec2& w) const
+  {
+    const Vec2 p = v[0] - this->Origin;
+    const Vec2 q = v[1] - this->Origin;
+    const Vec2& d = this->Direction;
+    const double cp = ExactSignedDifferenceOfProducts(d[0], p[1], d[1], p[0]);
+    const double cq = ExactSignedDifferenceOfProducts(d[0], q[1], d[1], q[0]);
+    if ((cp > 0.0 && cq > 0.0) || (cp < 0.0 && cq < 0.0) || (cp == 0.0 && cq == 0.0))
+    {
+      return false;
+    }
+    const double den = cq - cp; // |cp| + |cq| > 0
+    const double wp = cq / den;
+    const double wq = -cp / den;
+    const double tHit = (wp * p[this->Kz] + wq * q[this->Kz]) * this->Sz;
+    if (!(tHit >= tMin && tHit <= tMax) || !std::isfinite(tHit))
+    {
+      return false;
+    }
+    t = tHit;
+    w = Vec2(wp, wq);
+    return true;
+  }
+};
+
 } // namespace detail
+
+/// Result of a ray query: the hit is origin + t * direction.
+template <int DIM>
+struct RayHit
+{
+  double t = std::numeric_limits<double>::infinity();
+  std::int64_t primitive = -1; // ORIGINAL index, as passed to Bvh::Build
+  Vec<DIM> barycentric = Vec<DIM>::Zero(); // weights of the primitive's vertices
+  Vec<DIM> point = Vec<DIM>::Constant(std::numeric_limits<double>::infinity());
+  bool Hit() const { return this->primitive >= 0; }
+};
 
 template <int DIM>
 class Bvh
@@ -175,6 +462,58 @@ public:
   /// Closest point, its distance, the ORIGINAL index of its primitive (as
   /// passed to Build) and the barycentric weights of the primitive's vertices.
   ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const;
+
+  /// A lower bound L of the distance d with d / (1 + relaxation) <= L <= d,
+  /// for the step radius of a walk. While the nearest distance found so far
+  /// exceeds `exactBelow`, subtrees are skipped unless they could be closer
+  /// than 1 / (1 + relaxation) of it; L is the smaller of the nearest
+  /// distance found and the nearest skipped box. Deep inside a closed surface
+  /// nearly every triangle is almost equidistant, and an exact answer must
+  /// visit them all; the relaxed one stops after O(1 / relaxation²) boxes.
+  /// `exact` tells whether L is the exact distance (no skipped box is nearer).
+  double DistanceLowerBound(
+    const Vec<DIM>& x, double relaxation, double exactBelow, bool& exact) const
+  {
+    Relaxation r;
+    r.Shrink2 = 1.0 / ((1.0 + relaxation) * (1.0 + relaxation));
+    r.ExactBelow2 = exactBelow * exactBelow;
+    double best2 = std::numeric_limits<double>::infinity();
+    this->FindNearest(x, best2, &r);
+    // Float box distances may exceed the exact ones by (1 + 2^-24)^5 at most.
+    const double pruned2 = static_cast<double>(r.MinPruned2) * (1.0 - 0x1p-19);
+    exact = !(pruned2 < best2);
+    return std::sqrt(exact ? best2 : pruned2);
+  }
+
+  /// Nearest hit of the ray origin + t * direction with tMin <= t <= tMax;
+  /// t is in units of direction, which need not have unit length. Box tests
+  /// never discard a hit, and primitive tests are watertight: a ray through
+  /// an edge or vertex shared by primitives of a closed boundary hits at
+  /// least one of them. Primitives parallel to the ray (containing it
+  /// included) and degenerate ones are never hit. No hit for a zero or
+  /// non-finite ray or an empty window. The point is origin + t * direction.
+  RayHit<DIM> Intersect(const Vec<DIM>& origin, const Vec<DIM>& direction,
+    double tMax = std::numeric_limits<double>::infinity(), double tMin = 0.0) const;
+
+  /// Whether any primitive is hit with tMin <= t <= tMax; stops at the first
+  /// one found. Visibility between points a and b: Occluded(a, b - a,
+  /// 1 - eps, eps), the small eps skipping primitives that a or b lie on.
+  bool Occluded(const Vec<DIM>& origin, const Vec<DIM>& direction,
+    double tMax = std::numeric_limits<double>::infinity(), double tMin = 0.0) const
+  {
+    double t = tMax;
+    Vec<DIM> w;
+    return this->template TraceRay<true>(origin, direction, tMin, t, w) >= 0;
+  }
+
+  /// Bytes held by the hierarchy: nodes, primitives in leaf order (with
+  /// their vertices inlined) and the map back to the original indices.
+  std::size_t MemoryBytes() const
+  {
+    return this->Nodes.capacity() * sizeof(Node) +
+      this->Primitives.capacity() * sizeof(PrimitiveData) +
+      this->OriginalIds.capacity() * sizeof(std::int64_t);
+  }
 
   /// Checks the invariants that exact queries rely on: every decoded child box
   /// encloses the primitives below it (outward rounding), every primitive is
@@ -356,9 +695,106 @@ private:
   bool ValidateSubtree(
     std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const;
 
+  /// State of a relaxed nearest search (see DistanceLowerBound).
+  struct Relaxation
+  {
+    double Shrink2 = 1.0;                                      // 1 / (1 + relaxation)²
+    double ExactBelow2 = std::numeric_limits<double>::infinity(); // relax only above this
+    float MinPruned2 = std::numeric_limits<float>::infinity();    // nearest skipped box
+  };
+
   /// Index (into Primitives) of the nearest primitive, -1 if empty; best2
-  /// returns its squared distance.
-  std::int64_t FindNearest(const Vec<DIM>& x, double& best2) const;
+  /// returns its squared distance. With a relaxation, the nearest primitive
+  /// found while skipping boxes that are not much nearer (see above).
+  std::int64_t FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax = nullptr) const;
+
+  /// The ray in node coordinates, for the float box tests of RayBoxes: per
+  /// axis the float bounds of the (shifted) origin to subtract from the near
+  /// and far planes, the float reciprocal of the (scaled) direction, and
+  /// whether the near plane is the upper one (negative direction).
+  struct RayBoxQuery
+  {
+    float NearOrigin[DIM];
+    float FarOrigin[DIM];
+    float InvDirection[DIM];
+    bool Negative[DIM];
+  };
+
+  /// Float slab test of the ray against the child boxes: entry receives lower
+  /// bounds of the entry parameters, and the mask marks the children whose
+  /// interval [entry, exit] can meet [tMin, tMax].
+  ///
+  /// The origin bounds enclose the exact origin and the decoded boxes the
+  /// exact ones, so before rounding each slab interval contains the exact
+  /// one. The subtraction, the reciprocal and the product add a relative
+  /// error below 2^-22 (and an absolute one below FLT_MIN when subnormal), so
+  /// moving both ends outward by 2^-20 relative plus FLT_MIN makes the test
+  /// conservative. An axis with no direction has an infinite reciprocal: its
+  /// slab gives +-inf, or NaN (0 * inf) when the origin bound lies exactly in
+  /// a box face; maxps / minps return their second operand on NaN, so such an
+  /// axis does not constrain the interval, as it should not.
+  static int RayBoxes(
+    const Node& node, const RayBoxQuery& q, float tMin, float tMax, float* entry)
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    const __m128 down = _mm_set1_ps(1.0f - 0x1p-20f);
+    const __m128 up = _mm_set1_ps(1.0f + 0x1p-20f);
+    const __m128 tiny = _mm_set1_ps(FLT_MIN);
+    int mask = 0;
+    for (int g = 0; g < kWidth / 4; ++g)
+    {
+      __m128 tNear = _mm_set1_ps(tMin);
+      __m128 tFar = _mm_set1_ps(tMax);
+      for (int k = 0; k < DIM; ++k)
+      {
+        __m128 lo, hi;
+        DecodeAxis(node, k, g, lo, hi);
+        const __m128 inv = _mm_set1_ps(q.InvDirection[k]);
+        const __m128 n =
+          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? hi : lo, _mm_set1_ps(q.NearOrigin[k])), inv);
+        const __m128 f =
+          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? lo : hi, _mm_set1_ps(q.FarOrigin[k])), inv);
+        tNear = _mm_max_ps(n, tNear);
+        tFar = _mm_min_ps(f, tFar);
+      }
+      tNear = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(tNear, down), _mm_mul_ps(tNear, up)), tiny);
+      tFar = _mm_add_ps(_mm_max_ps(_mm_mul_ps(tFar, up), _mm_mul_ps(tFar, down)), tiny);
+      _mm_storeu_ps(entry + 4 * g, tNear);
+      mask |= _mm_movemask_ps(_mm_cmple_ps(tNear, tFar)) << (4 * g);
+    }
+    return mask;
+#else
+    float lo[DIM][kWidth], hi[DIM][kWidth];
+    DecodeBoxes(node, lo, hi);
+    int mask = 0;
+    for (int c = 0; c < kWidth; ++c)
+    {
+      float tNear = tMin;
+      float tFar = tMax;
+      for (int k = 0; k < DIM; ++k)
+      {
+        const float n =
+          ((q.Negative[k] ? hi[k][c] : lo[k][c]) - q.NearOrigin[k]) * q.InvDirection[k];
+        const float f =
+          ((q.Negative[k] ? lo[k][c] : hi[k][c]) - q.FarOrigin[k]) * q.InvDirection[k];
+        tNear = n > tNear ? n : tNear; // NaN leaves the bound unchanged
+        tFar = f < tFar ? f : tFar;
+      }
+      tNear = std::min(tNear * (1.0f - 0x1p-20f), tNear * (1.0f + 0x1p-20f)) - FLT_MIN;
+      tFar = std::max(tFar * (1.0f + 0x1p-20f), tFar * (1.0f - 0x1p-20f)) + FLT_MIN;
+      entry[c] = tNear;
+      mask |= (tNear <= tFar) << c;
+    }
+    return mask;
+#endif
+  }
+
+  /// Index (into Primitives) of the nearest primitive hit with t in
+  /// [tMin, t] (t holds tMax on entry and the hit on return; w its weights),
+  /// or of the first one found if AnyHit; -1 if none.
+  template <bool AnyHit>
+  std::int64_t TraceRay(const Vec<DIM>& origin, const Vec<DIM>& direction, double tMin,
+    double& t, Vec<DIM>& w) const;
 
   std::vector<Node> Nodes;
   std::vector<PrimitiveData> Primitives; // in leaf order
@@ -697,7 +1133,7 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
 
 //------------------------------------------------------------------------------
 template <int DIM>
-std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
+std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax) const
 {
   best2 = std::numeric_limits<double>::infinity();
   if (this->Nodes.empty())
@@ -731,6 +1167,10 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
     const Entry entry = stack[--top];
     if (entry.Dist2 > threshold)
     {
+      if (relax)
+      {
+        relax->MinPruned2 = std::min(relax->MinPruned2, entry.Dist2);
+      }
       continue; // a closer primitive was found since this entry was pushed
     }
     std::uint32_t ref = entry.Ref;
@@ -749,7 +1189,8 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
             best = i;
           }
         }
-        threshold = detail::PruneThreshold(best2);
+        threshold = detail::PruneThreshold(
+          relax && best2 > relax->ExactBelow2 ? best2 * relax->Shrink2 : best2);
         break;
       }
 
@@ -762,6 +1203,10 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2) const
       int numHits = 0;
       for (int c = 0; c < kWidth; ++c)
       {
+        if (relax && !(mask >> c & 1) && node.Child[c] != kEmptyChild)
+        {
+          relax->MinPruned2 = std::min(relax->MinPruned2, dist2[c]);
+        }
         if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
         {
           Entry e{ node.Child[c], dist2[c] };
@@ -888,6 +1333,220 @@ ClosestPointResult<DIM> Bvh<DIM>::ClosestPoint(const Vec<DIM>& x) const
   result.primitive = this->OriginalIds[best];
   result.barycentric = cp.weights;
   return result;
+}
+
+//------------------------------------------------------------------------------
+// Ray traversal. The primitive tests use the ray as given, in double. The box
+// tests use, in float, the same ray written as
+//   origin + tc * direction + t' * (2^shift * direction),  t = tc + 2^-shift t'
+// where the power-of-two scale brings the largest direction component into
+// [1, 2) (exact, and keeps every used reciprocal within float range), and tc
+// is about where the ray enters the whole boundary box, so that an origin
+// far away does not cost the float boxes their precision. The shifted origin
+// is rounded to a float interval that contains the exact one.
+template <int DIM>
+template <bool AnyHit>
+std::int64_t Bvh<DIM>::TraceRay(const Vec<DIM>& origin, const Vec<DIM>& direction,
+  double tMin, double& t, Vec<DIM>& w) const
+{
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double tMax = t;
+  const double dMax = direction.cwiseAbs().maxCoeff();
+  if (this->Nodes.empty() || !origin.allFinite() || !direction.allFinite() || dMax == 0.0 ||
+    !(tMin <= tMax) || tMin == inf || tMax == -inf)
+  {
+    return -1;
+  }
+  const detail::RayFrame<DIM> frame(origin, direction);
+
+  int exponent;
+  std::frexp(dMax, &exponent);
+  const int shift = 1 - exponent;
+
+  // Any start works (the bounds below hold for every tc); the entry into the
+  // root box, clamped to the window, keeps the float box coordinates small.
+  double entry = -inf;
+  for (int k = 0; k < DIM; ++k)
+  {
+    if (direction[k] != 0.0)
+    {
+      const double a = (this->Box.Min[k] - origin[k]) / direction[k];
+      const double b = (this->Box.Max[k] - origin[k]) / direction[k];
+      entry = std::max(entry, std::min(a, b));
+    }
+  }
+  double tc = std::min(std::max(entry, tMin), tMax);
+  if (!std::isfinite(tc))
+  {
+    tc = std::min(std::max(0.0, tMin), tMax);
+  }
+
+  // Shifted origin y - Center, with a bound on the rounding of each of its 3
+  // operations (each below 2^-53 of |a| + |b|).
+  double y[DIM], err[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    const double a = origin[k] - this->Center[k];
+    const double b = tc * direction[k];
+    y[k] = a + b;
+    err[k] = (std::abs(a) + std::abs(b)) * 0x1p-50;
+  }
+
+  // |t'| of any hit is below tBound: along the dominant axis j the ray moves
+  // at least |t'| while it must stay within the boundary box.
+  int j = 0;
+  direction.cwiseAbs().maxCoeff(&j);
+  const double boxLo = this->Box.Min[j] - this->Center[j];
+  const double boxHi = this->Box.Max[j] - this->Center[j];
+  const double tBound = (std::max(std::abs(boxLo - y[j]), std::abs(boxHi - y[j])) + err[j] +
+                          (std::abs(boxLo) + std::abs(boxHi)) * 0x1p-50) *
+    (1.0 + 0x1p-40);
+
+  RayBoxQuery q;
+  for (int k = 0; k < DIM; ++k)
+  {
+    const double dk = std::ldexp(direction[k], shift);
+    double e = err[k];
+    if (std::abs(dk) >= 0x1p-100)
+    {
+      q.InvDirection[k] = static_cast<float>(1.0 / dk);
+      q.Negative[k] = dk < 0.0;
+    }
+    else
+    {
+      // Treated as 0 (reciprocal +inf): the ray drifts by less than
+      // tBound * 2^-99 along this axis (2^-100 plus underflow of the scaling),
+      // which the origin interval absorbs.
+      q.InvDirection[k] = std::numeric_limits<float>::infinity();
+      q.Negative[k] = false;
+      e += tBound * 0x1p-99;
+    }
+    const float lo = detail::FloatDown(y[k] - e);
+    const float hi = detail::FloatUp(y[k] + e);
+    q.NearOrigin[k] = q.Negative[k] ? lo : hi;
+    q.FarOrigin[k] = q.Negative[k] ? hi : lo;
+  }
+
+  // Window in t' units. The margin of 2^-30 of |t| + |tc| is generous for the
+  // subtraction; it also keeps boxes whose exact entry is a little beyond
+  // the computed t of the best hit so far, so rounding of the primitive
+  // test never makes the traversal miss a primitive whose computed t is lower.
+  auto lowerT = [&](double v)
+  {
+    const double s = std::ldexp(v - tc - (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    return detail::FloatDown(std::max(s, -tBound));
+  };
+  auto upperT = [&](double v)
+  {
+    const double s = std::ldexp(v - tc + (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    return detail::FloatUp(std::min(s, tBound));
+  };
+  const float tMinBox = lowerT(tMin);
+  float tMaxBox = upperT(tMax);
+
+  struct Entry
+  {
+    std::uint32_t Ref;
+    float T; // lower bound of the entry parameter t'
+  };
+  Entry stack[kStackSize];
+  int top = 0;
+  stack[top++] = Entry{ 0u, tMinBox };
+  std::int64_t best = -1;
+
+  while (top > 0)
+  {
+    const Entry next = stack[--top];
+    if (next.T > tMaxBox)
+    {
+      continue; // a nearer hit was found since this entry was pushed
+    }
+    std::uint32_t ref = next.Ref;
+    for (;;) // descend towards the nearest child, pushing the others
+    {
+      if (ref & kLeafFlag)
+      {
+        const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
+        const std::uint32_t end = begin + (ref & 7u);
+        const std::int64_t before = best;
+        for (std::uint32_t i = begin; i < end; ++i)
+        {
+          double tHit;
+          Vec<DIM> weights;
+          if (frame.Intersect(this->Primitives[i].V, tMin, t, tHit, weights) &&
+            (best < 0 || tHit < t))
+          {
+            t = tHit;
+            w = weights;
+            best = i;
+            if constexpr (AnyHit)
+            {
+              return best;
+            }
+          }
+        }
+        if (best != before)
+        {
+          tMaxBox = std::min(tMaxBox, upperT(t));
+        }
+        break;
+      }
+
+      const Node& node = this->Nodes[ref];
+      float entries[kWidth];
+      const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
+      // Children to visit, sorted by entry; empty slots are skipped.
+      Entry hits[kWidth];
+      int numHits = 0;
+      for (int c = 0; c < kWidth; ++c)
+      {
+        if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
+        {
+          Entry e{ node.Child[c], entries[c] };
+          int k = numHits++;
+          for (; k > 0 && hits[k - 1].T > e.T; --k)
+          {
+            hits[k] = hits[k - 1];
+          }
+          hits[k] = e;
+        }
+      }
+      if (numHits == 0)
+      {
+        break;
+      }
+      for (int k = 0; k < numHits; ++k)
+      {
+        this->Prefetch(hits[k].Ref);
+      }
+      for (int k = numHits - 1; k > 0; --k)
+      {
+        stack[top++] = hits[k];
+      }
+      ref = hits[0].Ref;
+    }
+  }
+  return best;
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+RayHit<DIM> Bvh<DIM>::Intersect(
+  const Vec<DIM>& origin, const Vec<DIM>& direction, double tMax, double tMin) const
+{
+  RayHit<DIM> hit;
+  double t = tMax;
+  Vec<DIM> w;
+  const std::int64_t best = this->template TraceRay<false>(origin, direction, tMin, t, w);
+  if (best < 0)
+  {
+    return hit;
+  }
+  hit.t = t;
+  hit.primitive = this->OriginalIds[best];
+  hit.barycentric = w;
+  hit.point = origin + t * direction;
+  return hit;
 }
 } // namespace gridfree
 
