@@ -79,7 +79,8 @@ std::vector<Vec<DIM>> ConvertPoints(vtkPoints* points)
 
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
-  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason)
+  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction)
 {
   using Primitive = typename Boundary<DIM>::Primitive;
   std::vector<Primitive> primitives;
@@ -205,6 +206,16 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
     return false;
   }
 
+  if (valueFunction)
+  {
+    out.SetMesh(std::move(vertices), std::move(primitives), std::move(valueFunction));
+    return true;
+  }
+  if (!values)
+  {
+    reason = "no boundary values";
+    return false;
+  }
   const int nc = values->GetNumberOfComponents();
   std::vector<double> flat;
   if (cellData)
@@ -229,7 +240,7 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
 }
 
 template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
-  BoundaryConversionReport&, std::string&);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>);
 template bool ConvertBoundary<3>(vtkPolyData*, vtkDataArray*, bool, Boundary<3>&,
-  BoundaryConversionReport&, std::string&);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>);
 } // namespace gridfree

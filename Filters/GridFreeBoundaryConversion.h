@@ -6,6 +6,7 @@
 
 #include "Boundary.h"
 
+#include <memory>
 #include <string>
 
 class vtkDataArray;
@@ -26,16 +27,18 @@ struct BoundaryConversionReport
 int DetectBoundaryDimension(vtkPolyData* boundary, std::string& reason);
 
 // Fills `out` from the boundary's cells of the right kind and `values`
-// (`cellData` tells whether values are per cell). Returns false with a reason
-// when nothing usable is left.
+// (`cellData` tells whether values are per cell), or, when `valueFunction` is
+// given, with values from that function instead (`values` is then unused).
+// Returns false with a reason when nothing usable is left.
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
-  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason);
+  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction = nullptr);
 
 extern template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
-  BoundaryConversionReport&, std::string&);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>);
 extern template bool ConvertBoundary<3>(vtkPolyData*, vtkDataArray*, bool, Boundary<3>&,
-  BoundaryConversionReport&, std::string&);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>);
 } // namespace gridfree
 
 #endif

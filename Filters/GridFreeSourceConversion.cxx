@@ -376,6 +376,48 @@ private:
   int X = 0, Y = 1, Z = 2;
 };
 
+// Several expressions in x, y, z, one per component: boundary values g (and
+// the biharmonic h) of boundaries without a value table, evaluated at the
+// boundary point.
+template <int DIM>
+class ExpressionListSource : public VolumeSource<DIM>
+{
+public:
+  ExpressionListSource(const std::vector<std::string>& expressions, double planeZ)
+    : PlaneZ(planeZ)
+  {
+    for (const std::string& e : expressions)
+    {
+      auto parser = vtkSmartPointer<vtkExprTkFunctionParser>::New();
+      parser->SetFunction(e.c_str());
+      parser->SetScalarVariableValue("x", 0.0);
+      parser->SetScalarVariableValue("y", 0.0);
+      parser->SetScalarVariableValue("z", 0.0);
+      parser->GetScalarResult(); // parse once, before the walks
+      this->Parsers.push_back(parser);
+    }
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    const std::array<double, 3> p = ToXYZ<DIM>(y, this->PlaneZ);
+    for (std::size_t c = 0; c < this->Parsers.size(); ++c)
+    {
+      vtkExprTkFunctionParser* parser = this->Parsers[c];
+      parser->SetScalarVariableValue("x", p[0]);
+      parser->SetScalarVariableValue("y", p[1]);
+      parser->SetScalarVariableValue("z", p[2]);
+      f[c] = parser->GetScalarResult();
+    }
+  }
+
+  bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
+
+private:
+  std::vector<vtkSmartPointer<vtkExprTkFunctionParser>> Parsers;
+  double PlaneZ;
+};
+
 // The sum of two volume sources (a dataset plus an expression).
 template <int DIM>
 class SumSource : public VolumeSource<DIM>
@@ -702,6 +744,20 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
   }
   return true;
 }
+
+template <int DIM>
+std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeExpressionListFactory(
+  const std::vector<std::string>& expressions, double planeZ)
+{
+  return [expressions, planeZ]() -> std::unique_ptr<VolumeSource<DIM>> {
+    return std::make_unique<ExpressionListSource<DIM>>(expressions, planeZ);
+  };
+}
+
+template std::function<std::unique_ptr<VolumeSource<2>>()> MakeExpressionListFactory<2>(
+  const std::vector<std::string>&, double);
+template std::function<std::unique_ptr<VolumeSource<3>>()> MakeExpressionListFactory<3>(
+  const std::vector<std::string>&, double);
 
 template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
   SourceDescription<2>&, std::string&);

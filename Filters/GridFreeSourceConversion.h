@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 class vtkDataArray;
 class vtkDataSet;
@@ -68,6 +69,18 @@ extern template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::str
   double, SourceDescription<2>&, std::string&);
 extern template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int,
   double, SourceDescription<3>&, std::string&);
+
+// Makes one thread's source of len(expressions) components, component c
+// being expressions[c] in x, y, z (in 2D sampled in the plane z = planeZ).
+// The expressions must have passed CheckSourceExpression.
+template <int DIM>
+std::function<std::unique_ptr<VolumeSource<DIM>>()> MakeExpressionListFactory(
+  const std::vector<std::string>& expressions, double planeZ);
+
+extern template std::function<std::unique_ptr<VolumeSource<2>>()> MakeExpressionListFactory<2>(
+  const std::vector<std::string>&, double);
+extern template std::function<std::unique_ptr<VolumeSource<3>>()> MakeExpressionListFactory<3>(
+  const std::vector<std::string>&, double);
 
 // Checks that an expression in x, y, z parses to a scalar; returns false
 // with the parser's message otherwise.

@@ -1,6 +1,8 @@
 #include "vtkWalkOnSpheresSolver.h"
 
+#include "Geometry/ImplicitBoundary.h"
 #include "GridFreeBoundaryConversion.h"
+#include "GridFreeImplicitBoundary.h"
 #include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
@@ -17,6 +19,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
+#include "vtkImplicitFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
@@ -178,7 +181,9 @@ struct DerivativeArrays
 // Everything RequestData resolved from the inputs, handed to the runner.
 struct vtkWalkOnSpheresSolverInputs
 {
-  vtkPolyData* Boundary = nullptr;
+  vtkPolyData* Boundary = nullptr; // the mesh, or the value carrier of an implicit boundary
+  vtkImplicitFunction* Implicit = nullptr;
+  std::vector<std::string> ValueExpressions; // g (and h), replacing Values when set
   vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
   bool CellData = false;
   vtkDataSet* Source = nullptr;
@@ -195,29 +200,130 @@ struct vtkWalkOnSpheresSolverInputs
 template <int DIM>
 class vtkWalkOnSpheresSolverRunner
 {
+  // The plane of a 2D problem (the boundary's z); 0 for a 3D one.
+  static double PlaneZ(const vtkWalkOnSpheresSolverInputs& in)
+  {
+    double bounds[6] = { 0, 0, 0, 0, 0, 0 };
+    if (DIM == 2 && in.Boundary)
+    {
+      in.Boundary->GetBounds(bounds);
+    }
+    return bounds[4];
+  }
+
+  // The core boundary: the mesh with its value table, a mesh with values from
+  // expressions, or an implicit surface with values from expressions or
+  // sampled from the Boundary input's mesh.
+  static bool BuildBoundary(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in,
+    gridfree::Boundary<DIM>& geometry)
+  {
+    std::shared_ptr<const gridfree::BoundaryValueFunction<DIM>> valueFunction;
+    if (!in.ValueExpressions.empty())
+    {
+      valueFunction = std::make_shared<gridfree::VolumeBoundaryValues<DIM>>(
+        gridfree::MakeExpressionListFactory<DIM>(in.ValueExpressions, PlaneZ(in)),
+        static_cast<int>(in.ValueExpressions.size()));
+    }
+    auto mesh = std::make_shared<gridfree::Boundary<DIM>>();
+    if (in.Boundary && !(in.Implicit && valueFunction))
+    {
+      gridfree::BoundaryConversionReport report;
+      std::string reason;
+      if (!gridfree::ConvertBoundary<DIM>(in.Boundary, in.Values, in.CellData, *mesh, report,
+            reason, in.Implicit ? nullptr : valueFunction))
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
+        return false;
+      }
+      if (report.IgnoredLowerDimensionalCells > 0)
+      {
+        vtkWarningWithObjectMacro(self, << "Ignored " << report.IgnoredLowerDimensionalCells
+                                        << " boundary cells of lower dimension than the "
+                                        << DIM << "D problem (vertices"
+                                        << (DIM == 3 ? " and lines" : "") << ").");
+      }
+      if (report.SkippedCells > 0)
+      {
+        vtkWarningWithObjectMacro(
+          self, << "Skipped " << report.SkippedCells << " boundary cells with too few points.");
+      }
+    }
+    if (!in.Implicit)
+    {
+      geometry = std::move(*mesh);
+      return true;
+    }
+    if constexpr (DIM == 3)
+    {
+      auto phi =
+        std::make_shared<gridfree::VtkImplicitFunctionDistance>(in.Implicit, self->LipschitzBound);
+      auto shape = std::make_shared<gridfree::ImplicitBoundaryGeometry<3>>(phi);
+      if (!valueFunction)
+      {
+        valueFunction = std::make_shared<gridfree::SampledBoundaryValues<3>>(mesh);
+      }
+      // Where the function's zero set is not known to be bounded, the problem
+      // lives in the box of the probe (and of the value mesh), enlarged.
+      gridfree::BoundingBox<3> region;
+      double b[6];
+      in.Probe->GetBounds(b);
+      region.Expand(gridfree::Vec3(b[0], b[2], b[4]));
+      region.Expand(gridfree::Vec3(b[1], b[3], b[5]));
+      if (!mesh->Empty())
+      {
+        region.Expand(mesh->BoundsMin());
+        region.Expand(mesh->BoundsMax());
+      }
+      const gridfree::Vec3 centre = region.Center();
+      const gridfree::Vec3 half = 0.75 * region.Extent() +
+        gridfree::Vec3::Constant(1e-3 * std::max(region.Diagonal(), 1e-12));
+      region = gridfree::BoundingBox<3>(centre - half, centre + half);
+      geometry.SetGeometry(shape, valueFunction, region);
+
+      // Never trust a function's scale: look for a steeper slope than L.
+      gridfree::BoundingBox<3> checked = shape->Bounds();
+      if (checked.IsEmpty())
+      {
+        checked = region;
+      }
+      // Only where the walks go: the sides of the surface the probe is on.
+      bool inside = false, outside = false;
+      const vtkIdType n = in.Probe->GetNumberOfPoints();
+      const vtkIdType stride = std::max<vtkIdType>(1, n / 1000);
+      for (vtkIdType i = 0; i < n; i += stride)
+      {
+        double p[3];
+        in.Probe->GetPoint(i, p);
+        const double value = phi->Value(gridfree::Vec3(p[0], p[1], p[2]));
+        inside = inside || value < 0.0;
+        outside = outside || value > 0.0;
+      }
+      const int side = inside == outside ? 0 : (inside ? -1 : 1);
+      const double observed = gridfree::ObservedLipschitz(*phi, checked, 4096, side);
+      if (observed > self->LipschitzBound * (1.0 + 1e-6))
+      {
+        vtkWarningWithObjectMacro(self, << "The implicit boundary's function changes faster than "
+                                           "LipschitzBound = "
+                                        << self->LipschitzBound << " (slope " << observed
+                                        << " seen near the boundary): walks may step across the "
+                                           "boundary. Set LipschitzBound to at least "
+                                        << observed << " or use a signed distance function.");
+      }
+      return true;
+    }
+    vtkErrorWithObjectMacro(self, << "An implicit boundary makes a 3D problem.");
+    return false;
+  }
+
 public:
   static bool Run(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in)
   {
     gridfree::Boundary<DIM> geometry;
-    gridfree::BoundaryConversionReport report;
-    std::string reason;
-    if (!gridfree::ConvertBoundary<DIM>(in.Boundary, in.Values, in.CellData, geometry, report, reason))
+    if (!BuildBoundary(self, in, geometry))
     {
-      vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
       return false;
     }
-    if (report.IgnoredLowerDimensionalCells > 0)
-    {
-      vtkWarningWithObjectMacro(self, << "Ignored " << report.IgnoredLowerDimensionalCells
-                                      << " boundary cells of lower dimension than the "
-                                      << DIM << "D problem (vertices"
-                                      << (DIM == 3 ? " and lines" : "") << ").");
-    }
-    if (report.SkippedCells > 0)
-    {
-      vtkWarningWithObjectMacro(
-        self, << "Skipped " << report.SkippedCells << " boundary cells with too few points.");
-    }
+    std::string reason;
 
     gridfree::WalkSettings settings;
     const double diagonal = geometry.Diagonal();
@@ -242,10 +348,8 @@ public:
     gridfree::SourceDescription<DIM> sources;
     if (gridfree::WalkOnSpheresEstimator<DIM>::UsesSources(settings.Problem))
     {
-      double bounds[6];
-      in.Boundary->GetBounds(bounds);
       if (!gridfree::ConvertSource<DIM>(
-            in.Source, in.SourceArray, in.Expression, nc, bounds[4], sources, reason))
+            in.Source, in.SourceArray, in.Expression, nc, PlaneZ(in), sources, reason))
       {
         vtkErrorWithObjectMacro(self, << "Cannot use the source term: " << reason << ".");
         return false;
@@ -455,6 +559,22 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
 vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
 {
   this->SetSourceExpression(nullptr);
+  this->SetBoundaryValueExpression(nullptr);
+  this->SetBoundaryLaplacianExpression(nullptr);
+  this->SetImplicitBoundary(nullptr);
+}
+
+vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, ImplicitBoundary, vtkImplicitFunction);
+
+// Editing the implicit function (a ParaView widget) must re-execute the solver.
+vtkMTimeType vtkWalkOnSpheresSolver::GetMTime()
+{
+  vtkMTimeType time = this->Superclass::GetMTime();
+  if (this->ImplicitBoundary)
+  {
+    time = std::max(time, this->ImplicitBoundary->GetMTime());
+  }
+  return time;
 }
 
 void vtkWalkOnSpheresSolver::SetBoundaryConnection(vtkAlgorithmOutput* output)
@@ -505,7 +625,8 @@ int vtkWalkOnSpheresSolver::FillInputPortInformation(int port, vtkInformation* i
   {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
   }
-  if (port == SourcePort)
+  // The boundary mesh is optional when an implicit boundary is set.
+  if (port == SourcePort || port == BoundaryPort)
   {
     info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   }
@@ -682,9 +803,11 @@ int vtkWalkOnSpheresSolver::RequestData(
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
   vtkDataSet* source = vtkDataSet::GetData(inputVector[SourcePort], 0);
   vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
-  if (!boundary)
+  const bool implicit = this->ImplicitBoundary != nullptr;
+  if (!boundary && !implicit)
   {
-    vtkErrorMacro(<< "No Boundary input: connect a vtkPolyData with boundary values to port 0.");
+    vtkErrorMacro(<< "No Boundary input: connect a vtkPolyData with boundary values to port 0, "
+                     "or set an ImplicitBoundary.");
     return 0;
   }
   if (!probe || !output)
@@ -700,36 +823,93 @@ int vtkWalkOnSpheresSolver::RequestData(
   output->GetFieldData()->PassData(probe->GetFieldData());
 
   std::string reason;
-  const int dimension = gridfree::DetectBoundaryDimension(boundary, reason);
-  if (dimension == 0)
+  vtkWalkOnSpheresSolverInputs inputs;
+
+  // Boundary values from expressions (g, and h for the biharmonic equation).
+  if (this->BoundaryValueExpression && *this->BoundaryValueExpression)
   {
-    vtkErrorMacro(<< "Cannot use the Boundary input: " << reason << ".");
+    inputs.ValueExpressions.push_back(this->BoundaryValueExpression);
+    if (this->Equation == BIHARMONIC)
+    {
+      if (!this->BoundaryLaplacianExpression || !*this->BoundaryLaplacianExpression)
+      {
+        vtkErrorMacro(<< "The biharmonic equation with BoundaryValueExpression also needs "
+                         "BoundaryLaplacianExpression (h = Δu on the boundary).");
+        return 0;
+      }
+      inputs.ValueExpressions.push_back(this->BoundaryLaplacianExpression);
+    }
+    for (const std::string& e : inputs.ValueExpressions)
+    {
+      if (!gridfree::CheckSourceExpression(e, reason))
+      {
+        vtkErrorMacro(<< "Cannot use the boundary value expression '" << e << "': " << reason
+                      << ".");
+        return 0;
+      }
+    }
+  }
+  const bool expressionValues = !inputs.ValueExpressions.empty();
+  if (implicit && !expressionValues && !boundary)
+  {
+    vtkErrorMacro(<< "The implicit boundary has no values: set BoundaryValueExpression, or "
+                     "connect a mesh with boundary values to port 0 to sample them from.");
     return 0;
+  }
+  if (implicit && expressionValues && boundary)
+  {
+    vtkWarningMacro(<< "The Boundary input is not used: the implicit boundary takes its values "
+                       "from BoundaryValueExpression.");
+    boundary = nullptr;
+  }
+
+  int dimension = 3;
+  if (boundary)
+  {
+    dimension = gridfree::DetectBoundaryDimension(boundary, reason);
+    if (dimension == 0)
+    {
+      vtkErrorMacro(<< "Cannot use the Boundary input: " << reason << ".");
+      return 0;
+    }
+    if (implicit && dimension != 3)
+    {
+      vtkErrorMacro(<< "An implicit boundary makes a 3D problem: the mesh its values are "
+                       "sampled from must be a surface (polygons), not lines.");
+      return 0;
+    }
   }
 
   // The boundary values g: the selected array, else the active scalars.
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* values = this->ResolveArray(0, boundary, true, association, reason);
-  if (!values)
+  vtkDataArray* values = nullptr;
+  std::string name = "Solution";
+  if (!expressionValues)
   {
-    vtkErrorMacro(<< (reason.empty()
-                       ? std::string("No boundary values: select a numeric point or cell array of "
-                                     "the Boundary input with SetInputArrayToProcess(0, 0, 0, "
-                                     "association, name).")
-                       : "Cannot use the boundary values: " + reason + "."));
-    return 0;
+    values = this->ResolveArray(0, boundary, true, association, reason);
+    if (!values)
+    {
+      vtkErrorMacro(<< (reason.empty()
+                         ? std::string("No boundary values: select a numeric point or cell array "
+                                       "of the Boundary input with SetInputArrayToProcess(0, 0, "
+                                       "0, association, name), or set BoundaryValueExpression.")
+                         : "Cannot use the boundary values: " + reason + "."));
+      return 0;
+    }
+    if (values->GetName() && *values->GetName())
+    {
+      name = values->GetName();
+    }
   }
   const bool cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
-  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS && !cellData)
+  if (values && association != vtkDataObject::FIELD_ASSOCIATION_POINTS && !cellData)
   {
     vtkErrorMacro(<< "Boundary values must be point data or cell data.");
     return 0;
   }
-  const std::string name =
-    values->GetName() && *values->GetName() ? values->GetName() : std::string("Solution");
 
   // Non-finite boundary data would silently poison every walk that ends near it.
-  if (const vtkIdType nonFinite = CountNonFinite(values))
+  if (const vtkIdType nonFinite = values ? CountNonFinite(values) : 0)
   {
     vtkErrorMacro(<< "The boundary value array '" << name << "' has " << nonFinite
                   << " NaN or infinite values: boundary values must be finite.");
@@ -745,7 +925,7 @@ int vtkWalkOnSpheresSolver::RequestData(
 
   // The biharmonic equation's second boundary array h = Δu.
   vtkSmartPointer<vtkDataArray> combined = values;
-  if (this->Equation == BIHARMONIC)
+  if (this->Equation == BIHARMONIC && values)
   {
     int hAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
     vtkDataArray* h = this->ResolveArray(1, boundary, false, hAssociation, reason);
@@ -776,7 +956,6 @@ int vtkWalkOnSpheresSolver::RequestData(
   }
 
   // Source terms: the Source input's point array and the expression.
-  vtkWalkOnSpheresSolverInputs inputs;
   const bool hasExpression = this->SourceExpression && *this->SourceExpression;
   const bool usesSources = this->Equation == POISSON || this->Equation == SCREENED_POISSON;
   if ((source || hasExpression) && !usesSources)
@@ -821,6 +1000,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   }
 
   inputs.Boundary = boundary;
+  inputs.Implicit = this->ImplicitBoundary;
   inputs.Values = combined;
   inputs.CellData = cellData;
   inputs.Probe = probe;
@@ -845,6 +1025,12 @@ int vtkWalkOnSpheresSolver::RequestData(
 void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "ImplicitBoundary: " << this->ImplicitBoundary << "\n";
+  os << indent << "LipschitzBound: " << this->LipschitzBound << "\n";
+  os << indent << "BoundaryValueExpression: "
+     << (this->BoundaryValueExpression ? this->BoundaryValueExpression : "(none)") << "\n";
+  os << indent << "BoundaryLaplacianExpression: "
+     << (this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "(none)") << "\n";
   os << indent << "Equation: " << this->Equation << "\n";
   os << indent << "ScreeningCoefficient: " << this->ScreeningCoefficient << "\n";
   os << indent << "SourceExpression: "

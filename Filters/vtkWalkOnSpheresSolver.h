@@ -27,6 +27,17 @@
  * cell) scalars are used. The biharmonic equation's h is the array chosen
  * with SetInputArrayToProcess(1, ...), with g's association and components.
  *
+ * Instead of a mesh, the boundary can be an implicit surface: the zero set
+ * of a vtkImplicitFunction set with SetImplicitBoundary (negative inside;
+ * ParaView's Sphere, Plane, Box, Cylinder, their boolean combinations, or
+ * the exact signed distances of this module). Walk on spheres then steps by
+ * |φ(x)| / LipschitzBound, which is never farther than the surface when
+ * LipschitzBound bounds how fast φ changes (1 for a true signed distance).
+ * Its boundary values come from BoundaryValueExpression (an expression in
+ * x, y, z at the boundary point) or, without one, from the Boundary input
+ * sampled at its closest point to the implicit surface's point. The Boundary
+ * input is then optional; an implicit problem is always 3D.
+ *
  * Input port 1, "Probe", is any vtkDataSet; the output has the probe's type,
  * structure and arrays (an image stays an image).
  *
@@ -86,6 +97,7 @@
 
 class vtkDataArray;
 class vtkDataSet;
+class vtkImplicitFunction;
 class vtkPolyData;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
@@ -105,6 +117,43 @@ public:
   void SetProbeData(vtkDataObject* data);
   void SetSourceConnection(vtkAlgorithmOutput* output);
   void SetSourceData(vtkDataObject* data);
+  ///@}
+
+  ///@{
+  /**
+   * An implicit boundary: the zero set of this function, negative inside
+   * (default none: the Boundary input's mesh is the boundary). See the class
+   * description.
+   */
+  void SetImplicitBoundary(vtkImplicitFunction* function);
+  vtkGetObjectMacro(ImplicitBoundary, vtkImplicitFunction);
+  ///@}
+
+  ///@{
+  /**
+   * A bound L on how fast the implicit boundary's function changes,
+   * |φ(x) − φ(y)| ≤ L |x − y| wherever walks go (default 1, right for exact
+   * signed distances and their boolean combinations). Steps are |φ(x)| / L;
+   * a too small L lets walks jump over the boundary, so the solver checks L
+   * on random short segments and warns when it is exceeded. ParaView's
+   * Sphere (|x − c|² − r²) needs L = 2r inside the sphere.
+   */
+  vtkSetClampMacro(LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX);
+  vtkGetMacro(LipschitzBound, double);
+  ///@}
+
+  ///@{
+  /**
+   * Boundary values g as an expression in x, y and z, evaluated at the
+   * boundary point where a walk ends (default none). Used for implicit
+   * boundaries, and for a mesh boundary instead of its arrays when set.
+   * BoundaryLaplacianExpression gives the biharmonic equation's h the same
+   * way. The output arrays are then named "Solution".
+   */
+  vtkSetStringMacro(BoundaryValueExpression);
+  vtkGetStringMacro(BoundaryValueExpression);
+  vtkSetStringMacro(BoundaryLaplacianExpression);
+  vtkGetStringMacro(BoundaryLaplacianExpression);
   ///@}
 
   enum EquationType
@@ -307,6 +356,7 @@ protected:
   vtkWalkOnSpheresSolver();
   ~vtkWalkOnSpheresSolver() override;
 
+  vtkMTimeType GetMTime() override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -317,6 +367,10 @@ protected:
   vtkDataArray* ResolveArray(
     int index, vtkDataSet* data, bool fallback, int& association, std::string& missing);
 
+  vtkImplicitFunction* ImplicitBoundary = nullptr;
+  double LipschitzBound = 1.0;
+  char* BoundaryValueExpression = nullptr;
+  char* BoundaryLaplacianExpression = nullptr;
   int Equation = LAPLACE;
   double ScreeningCoefficient = 1.0;
   char* SourceExpression = nullptr;

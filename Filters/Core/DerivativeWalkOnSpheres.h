@@ -232,7 +232,7 @@ private:
     }
     else
     {
-      direction = this->Geometry.PrimitiveNormal(hit.primitive);
+      direction = this->Geometry.Normal(hit);
       if (direction.squaredNorm() == 0.0)
       {
         return DerivativeStatus::Unavailable;

@@ -5,8 +5,10 @@
 //   ScreenedPoisson  Δu − c·u = f  (c > 0)  u = g                Eqn. 9, App. B.2
 //   Biharmonic       Δ²u = 0                u = g, Δu = h        Sec. 2.5, 4.3
 //
-// From x_k, with R_k = dist(x_k, ∂Ω), one step uses the mean-value identity
-// on the ball B(x_k, R_k) (FORMULAS.md §2, §3; note the sign):
+// From x_k, with R_k = dist(x_k, ∂Ω) (or, far from a mesh, a cheaper radius
+// of at least R_k / 1.2: Boundary::StepRadius; any ball inside the domain
+// keeps the identity), one step uses the mean-value identity on the ball
+// B(x_k, R_k) (FORMULAS.md §2, §3; note the sign):
 //
 //   u(x_k) = C_k · E[u(x_{k+1})] − ∫_B f(y) G(x_k, y) dy,   x_{k+1} ~ U(∂B),
 //
@@ -327,7 +329,11 @@ private:
         break;
       }
 
-      const double radius = this->Geometry.Distance(x);
+      // Biharmonic walks keep the largest balls: tree walking's Σ R_k² is an
+      // exit time with a long tail, and smaller balls (more, smaller terms)
+      // made it heavier than a 512-walk sample variance can judge at 5σ.
+      const double radius =
+        biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon);
       if (radius < s.Epsilon)
       {
         break;
@@ -436,7 +442,7 @@ private:
   {
     for (steps = 0;; ++steps)
     {
-      const double radius = this->Geometry.Distance(x);
+      const double radius = this->Geometry.StepRadius(x, this->Settings.Epsilon);
       if (radius < this->Settings.Epsilon || steps >= this->Settings.MaxSteps)
       {
         this->Geometry.Evaluate(this->Geometry.ClosestPoint(x), this->InnerValue.data());

@@ -3,6 +3,8 @@
 // errors reported for bad input.
 #include "vtkWalkOnSpheresSolver.h"
 
+#include "VtkMessageCatcher.h"
+
 #include "vtkCellArray.h"
 #include "vtkCommand.h"
 #include "vtkDataObject.h"
@@ -23,19 +25,6 @@
 
 namespace
 {
-// Records errors and warnings instead of printing them.
-class MessageCatcher : public vtkCommand
-{
-public:
-  static MessageCatcher* New() { return new MessageCatcher; }
-  void Execute(vtkObject*, unsigned long event, void* data) override
-  {
-    const std::string text = data ? static_cast<const char*>(data) : "";
-    (event == vtkCommand::ErrorEvent ? Errors : Warnings) += text;
-  }
-  std::string Errors, Warnings;
-};
-
 // A fine sphere of radius 1 carrying g = x^2 - y^2 (harmonic) as "T".
 vtkSmartPointer<vtkPolyData> MakeSphereBoundary()
 {

@@ -1,0 +1,47 @@
+// Turns a vtkImplicitFunction into the estimator core's implicit boundary
+// (a SignedDistanceFunction<3> with the user's Lipschitz bound), and finds
+// the box of its zero set where the function type makes it known.
+// Private to the GridFree::Filters module.
+#ifndef GridFreeImplicitBoundary_h
+#define GridFreeImplicitBoundary_h
+
+#include "Geometry/SignedDistance.h"
+
+#include "vtkSmartPointer.h"
+
+class vtkImplicitFunction;
+
+namespace gridfree
+{
+// φ(x) = f->FunctionValue(x). The function is called from several threads
+// at once; VTK's implicit functions (sphere, plane, box, cylinder, boolean
+// combinations, with or without a transform) only read their parameters.
+class VtkImplicitFunctionDistance final : public SignedDistanceFunction<3>
+{
+public:
+  VtkImplicitFunctionDistance(vtkImplicitFunction* function, double lipschitz);
+
+  double Value(const Vec3& x) const override;
+  Vec3 Gradient(const Vec3& x) const override;
+  double Lipschitz() const override { return this->L; }
+  BoundingBox<3> Bounds() const override { return this->Box; }
+
+private:
+  vtkSmartPointer<vtkImplicitFunction> Function;
+  double L;
+  BoundingBox<3> Box;
+};
+
+// The box of f's zero set when f is a vtkSphere, a vtkBox, or a
+// vtkImplicitBoolean of such (no transforms); false when it is not known.
+bool ImplicitFunctionBounds(vtkImplicitFunction* f, BoundingBox<3>& box);
+
+// The largest |φ(a) − φ(b)| / |a − b| seen on `pairs` short random segments
+// in `box` (fixed seed): a check that a Lipschitz bound is not too small.
+// `side` restricts the check to where walks go: −1 inside (φ < 0 at both
+// ends), +1 outside, 0 anywhere.
+double ObservedLipschitz(
+  const SignedDistanceFunction<3>& phi, const BoundingBox<3>& box, int pairs, int side);
+} // namespace gridfree
+
+#endif
