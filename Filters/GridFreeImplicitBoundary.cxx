@@ -1,8 +1,5 @@
 #include "GridFreeImplicitBoundary.h"
 
-#include "Random.h"
-#include "SphereSampling.h"
-
 #include "vtkAbstractTransform.h"
 #include "vtkBox.h"
 #include "vtkImplicitBoolean.h"
@@ -10,7 +7,6 @@
 #include "vtkImplicitFunctionCollection.h"
 #include "vtkSphere.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace gridfree
@@ -131,34 +127,4 @@ bool ImplicitFunctionBounds(vtkImplicitFunction* f, BoundingBox<3>& box)
   return true;
 }
 
-//------------------------------------------------------------------------------
-double ObservedLipschitz(
-  const SignedDistanceFunction<3>& phi, const BoundingBox<3>& box, int pairs, int side)
-{
-  if (box.IsEmpty())
-  {
-    return 0.0;
-  }
-  const Vec3 extent = box.Extent();
-  const double step = 1e-3 * std::max(box.Diagonal(), 1e-300);
-  RandomStream rng(0x11b5c4u, 0);
-  double largest = 0.0;
-  for (int i = 0; i < pairs; ++i)
-  {
-    Vec3 a;
-    for (int k = 0; k < 3; ++k)
-    {
-      a[k] = box.Min[k] + rng.NextDouble() * extent[k];
-    }
-    const Vec3 b = a + step * SampleUnitSphere<3>(rng);
-    const double fa = phi.Value(a);
-    const double fb = phi.Value(b);
-    const bool onSide = side == 0 || (side < 0 ? fa < 0.0 && fb < 0.0 : fa > 0.0 && fb > 0.0);
-    if (onSide && std::isfinite(fa) && std::isfinite(fb))
-    {
-      largest = std::max(largest, std::abs(fa - fb) / step);
-    }
-  }
-  return largest;
-}
 } // namespace gridfree

@@ -1,6 +1,7 @@
 // Turns a vtkImplicitFunction into the estimator core's implicit boundary
 // (a SignedDistanceFunction<3> with the user's Lipschitz bound), and finds
-// the box of its zero set where the function type makes it known.
+// the box of its zero set where the function type makes it known. The check
+// of the bound is the core's ObservedLipschitz (SignedDistance.h).
 // Private to the GridFree::Filters module.
 #ifndef GridFreeImplicitBoundary_h
 #define GridFreeImplicitBoundary_h
@@ -36,12 +37,6 @@ private:
 // vtkImplicitBoolean of such (no transforms); false when it is not known.
 bool ImplicitFunctionBounds(vtkImplicitFunction* f, BoundingBox<3>& box);
 
-// The largest |φ(a) − φ(b)| / |a − b| seen on `pairs` short random segments
-// in `box` (fixed seed): a check that a Lipschitz bound is not too small.
-// `side` restricts the check to where walks go: −1 inside (φ < 0 at both
-// ends), +1 outside, 0 anywhere.
-double ObservedLipschitz(
-  const SignedDistanceFunction<3>& phi, const BoundingBox<3>& box, int pairs, int side);
 } // namespace gridfree
 
 #endif

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace gridfree
@@ -335,17 +336,11 @@ private:
   double PCoords[3] = { 0.0, 0.0, 0.0 };
 };
 
-// An expression in x, y, z; one parser per block of probe points a thread
-// solves (parsers are never shared between threads). Its gradient is the base
-// class's central differences, with the step the factory sets from the
-// problem's length scale (see VolumeSourceFactory).
-template <int DIM>
-class ExpressionSource : public VolumeSource<DIM>
+// One parsed expression in x, y, z (a parser is never shared by threads).
+class ParsedExpression
 {
 public:
-  ExpressionSource(const std::string& expression, int components, double planeZ)
-    : Components(components)
-    , PlaneZ(planeZ)
+  explicit ParsedExpression(const std::string& expression)
   {
     this->Parser->SetFunction(expression.c_str());
     this->Parser->SetScalarVariableValue("x", 0.0);
@@ -357,23 +352,46 @@ public:
     this->Z = this->Parser->GetScalarVariableIndex("z");
   }
 
-  void Evaluate(const Vec<DIM>& y, double* f) override
+  double operator()(const std::array<double, 3>& p)
   {
-    const std::array<double, 3> p = ToXYZ<DIM>(y, this->PlaneZ);
     this->Parser->SetScalarVariableValue(this->X, p[0]);
     this->Parser->SetScalarVariableValue(this->Y, p[1]);
     this->Parser->SetScalarVariableValue(this->Z, p[2]);
-    const double value = this->Parser->GetScalarResult();
+    return this->Parser->GetScalarResult();
+  }
+
+private:
+  vtkNew<vtkExprTkFunctionParser> Parser;
+  int X = 0, Y = 1, Z = 2;
+};
+
+// An expression in x, y, z; one parser per block of probe points a thread
+// solves. Its gradient is the base class's central differences, with the
+// step the factory sets from the problem's length scale (see
+// VolumeSourceFactory).
+template <int DIM>
+class ExpressionSource : public VolumeSource<DIM>
+{
+public:
+  ExpressionSource(const std::string& expression, int components, double planeZ)
+    : Expression(expression)
+    , Components(components)
+    , PlaneZ(planeZ)
+  {
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    const double value = this->Expression(ToXYZ<DIM>(y, this->PlaneZ));
     std::fill(f, f + this->Components, value);
   }
 
   bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
 
 private:
-  vtkNew<vtkExprTkFunctionParser> Parser;
+  ParsedExpression Expression;
   int Components;
   double PlaneZ;
-  int X = 0, Y = 1, Z = 2;
 };
 
 // Several expressions in x, y, z, one per component: boundary values g (and
@@ -388,33 +406,23 @@ public:
   {
     for (const std::string& e : expressions)
     {
-      auto parser = vtkSmartPointer<vtkExprTkFunctionParser>::New();
-      parser->SetFunction(e.c_str());
-      parser->SetScalarVariableValue("x", 0.0);
-      parser->SetScalarVariableValue("y", 0.0);
-      parser->SetScalarVariableValue("z", 0.0);
-      parser->GetScalarResult(); // parse once, before the walks
-      this->Parsers.push_back(parser);
+      this->Expressions.push_back(std::make_unique<ParsedExpression>(e));
     }
   }
 
   void Evaluate(const Vec<DIM>& y, double* f) override
   {
     const std::array<double, 3> p = ToXYZ<DIM>(y, this->PlaneZ);
-    for (std::size_t c = 0; c < this->Parsers.size(); ++c)
+    for (std::size_t c = 0; c < this->Expressions.size(); ++c)
     {
-      vtkExprTkFunctionParser* parser = this->Parsers[c];
-      parser->SetScalarVariableValue("x", p[0]);
-      parser->SetScalarVariableValue("y", p[1]);
-      parser->SetScalarVariableValue("z", p[2]);
-      f[c] = parser->GetScalarResult();
+      f[c] = (*this->Expressions[c])(p);
     }
   }
 
   bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
 
 private:
-  std::vector<vtkSmartPointer<vtkExprTkFunctionParser>> Parsers;
+  std::vector<std::unique_ptr<ParsedExpression>> Expressions;
   double PlaneZ;
 };
 

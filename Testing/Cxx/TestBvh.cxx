@@ -10,6 +10,7 @@
 #include "Vector.h"
 
 #include "RandomSoups.h"
+#include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
@@ -63,7 +64,6 @@ double BruteForceSquaredDistance(const Soup<DIM>& soup, const Vec<DIM>& x)
   }
   return best;
 }
-
 
 /// Queries inside the box, near the primitives (down to exactly on them) and
 /// far outside.
@@ -695,5 +695,56 @@ TEST(Bvh, ClosedSurface)
     ASSERT_FALSE(HasFatalFailure());
   }
   CheckQuery(bvh, soup, Vec3(0, 0, 0), 2.0); // equidistant from everything
+}
+
+// The relaxed lower bound of walk steps: never above the exact distance, never
+// below 1 / (1 + relaxation) of it, and equal to it when flagged exact. (A
+// distance below `exactBelow` need not be exact: boxes skipped while the
+// nearest triangle found was still farther stay skipped.)
+template <int DIM>
+void CheckDistanceLowerBound(const Soup<DIM>& soup, const std::vector<Vec<DIM>>& queries)
+{
+  Bvh<DIM> bvh;
+  bvh.Build(soup.Vertices, soup.Primitives);
+  int relaxed = 0;
+  for (const double relaxation : { 0.05, 0.2, 1.0 })
+  {
+    for (const double exactBelow : { 0.0, 0.01, 0.1 })
+    {
+      for (const auto& x : queries)
+      {
+        const double d = bvh.Distance(x);
+        bool exact = false;
+        const double bound = bvh.DistanceLowerBound(x, relaxation, exactBelow, exact);
+        ASSERT_LE(bound, d) << "query " << x.transpose();
+        ASSERT_GE(bound, d / (1.0 + relaxation) * (1.0 - 1e-6)) << "query " << x.transpose();
+        if (exact)
+        {
+          ASSERT_EQ(bound, d) << "query " << x.transpose();
+        }
+        relaxed += bound < d ? 1 : 0;
+      }
+    }
+  }
+  // The relaxation must actually happen somewhere, or the test shows nothing.
+  EXPECT_GT(relaxed, 0);
+}
+
+TEST(Bvh, DistanceLowerBound)
+{
+  CheckDistanceLowerBound<3>(MakeSoup<3>(3000, 71), MakeQueries(MakeSoup<3>(3000, 71), 60, 72));
+  CheckDistanceLowerBound<2>(MakeSoup<2>(3000, 73), MakeQueries(MakeSoup<2>(3000, 73), 60, 74));
+  // Deep inside a closed sphere, where relaxation matters most.
+  const auto sphere = gridfree::testing::MakeIcosphere(5);
+  Soup<3> closed{ sphere.Vertices, sphere.Simplices };
+  std::mt19937_64 rng(75);
+  std::uniform_real_distribution<double> u(-0.57, 0.57);
+  std::vector<Vec3> inside;
+  for (int i = 0; i < 400; ++i)
+  {
+    inside.emplace_back(u(rng), u(rng), u(rng));
+  }
+  inside.emplace_back(0.0, 0.0, 0.0);
+  CheckDistanceLowerBound<3>(closed, inside);
 }
 } // namespace

@@ -101,7 +101,6 @@ void CheckRay(const Bvh<DIM>& bvh, const Soup<DIM>& soup, const Vec<DIM>& o,
   EXPECT_EQ(hit.point, Vec<DIM>(o + hit.t * d));
 }
 
-
 /// Random rays for a soup: origins inside the box, on primitives and far
 /// away; directions random, towards a point of a primitive (a vertex
 /// included), or with components exactly 0, -0 or tiny; lengths from 1e-30

@@ -233,16 +233,22 @@ TEST(ImplicitBoundaryFilter, MessagesForBadSettings)
   auto probe = BallPoints(4, origin, 0.5);
   vtkNew<vtkSphere> sphere;
   sphere->SetRadius(1.0);
-  {
-    // No values at all: an error, not a crash.
+  // The errors one run reports.
+  auto errorsOf = [&](const std::function<void(vtkWalkOnSpheresSolver*)>& configure) {
     vtkNew<vtkWalkOnSpheresSolver> solver;
     vtkNew<MessageCatcher> catcher;
     solver->AddObserver(vtkCommand::ErrorEvent, catcher);
     solver->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, catcher);
     solver->SetImplicitBoundary(sphere);
     solver->SetProbeData(probe);
+    configure(solver);
     solver->Update();
-    EXPECT_NE(catcher->Errors.find("has no values"), std::string::npos) << catcher->Errors;
+    return catcher->Errors;
+  };
+  {
+    // No values at all: an error, not a crash.
+    const std::string errors = errorsOf([](vtkWalkOnSpheresSolver*) {});
+    EXPECT_NE(errors.find("has no values"), std::string::npos) << errors;
   }
   {
     // |x|² − 1 has slope up to 2 inside the unit ball: L = 1 is too small.
@@ -258,15 +264,10 @@ TEST(ImplicitBoundaryFilter, MessagesForBadSettings)
   }
   {
     // A broken expression is an error naming it.
-    vtkNew<vtkWalkOnSpheresSolver> solver;
-    vtkNew<MessageCatcher> catcher;
-    solver->AddObserver(vtkCommand::ErrorEvent, catcher);
-    solver->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, catcher);
-    solver->SetImplicitBoundary(sphere);
-    solver->SetLipschitzBound(2.0);
-    solver->SetBoundaryValueExpression("x*(");
-    solver->SetProbeData(probe);
-    solver->Update();
-    EXPECT_NE(catcher->Errors.find("x*("), std::string::npos) << catcher->Errors;
+    const std::string errors = errorsOf([](vtkWalkOnSpheresSolver* s) {
+      s->SetLipschitzBound(2.0);
+      s->SetBoundaryValueExpression("x*(");
+    });
+    EXPECT_NE(errors.find("x*("), std::string::npos) << errors;
   }
 }

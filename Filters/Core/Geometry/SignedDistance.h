@@ -11,8 +11,11 @@
 #define GRIDFREE_CORE_GEOMETRY_SIGNEDDISTANCE_H
 
 #include "Geometry/BoundingBox.h"
+#include "Random.h"
+#include "SphereSampling.h"
 #include "Vector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -65,6 +68,41 @@ public:
   // The conservative step radius |φ(x)| / L (never more than the distance).
   double DistanceBound(const Vec<DIM>& x) const { return std::abs(this->Value(x)) / this->Lipschitz(); }
 };
+
+// The largest |φ(a) − φ(b)| / |a − b| seen on `pairs` short random segments
+// in `box` (fixed seed): a check that a Lipschitz bound is not too small,
+// since a function's scale is never to be trusted. `side` restricts it to
+// where walks go: −1 inside (φ < 0 at both ends), +1 outside, 0 anywhere.
+template <int DIM>
+double ObservedLipschitz(
+  const SignedDistanceFunction<DIM>& phi, const BoundingBox<DIM>& box, int pairs, int side)
+{
+  if (box.IsEmpty())
+  {
+    return 0.0;
+  }
+  const Vec<DIM> extent = box.Extent();
+  const double step = 1e-3 * std::max(box.Diagonal(), 1e-300);
+  RandomStream rng(0x11b5c4u, 0);
+  double largest = 0.0;
+  for (int i = 0; i < pairs; ++i)
+  {
+    Vec<DIM> a;
+    for (int k = 0; k < DIM; ++k)
+    {
+      a[k] = box.Min[k] + rng.NextDouble() * extent[k];
+    }
+    const Vec<DIM> b = a + step * SampleUnitSphere<DIM>(rng);
+    const double fa = phi.Value(a);
+    const double fb = phi.Value(b);
+    const bool onSide = side == 0 || (side < 0 ? fa < 0.0 && fb < 0.0 : fa > 0.0 && fb > 0.0);
+    if (onSide && std::isfinite(fa) && std::isfinite(fb))
+    {
+      largest = std::max(largest, std::abs(fa - fb) / step);
+    }
+  }
+  return largest;
+}
 } // namespace gridfree
 
 #endif
