@@ -1,14 +1,20 @@
 #include "GridFreeBoundaryConversion.h"
 
+#include "BezierBoundaryValues.h"
+#include "Geometry/BezierCurves.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolygon.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gridfree
@@ -75,7 +81,226 @@ std::vector<Vec<DIM>> ConvertPoints(vtkPoints* points)
   }
   return vertices;
 }
+
+// A straight segment or one cubic Bézier curve of a 2D boundary, by point ids.
+struct LinePiece
+{
+  vtkIdType Ids[4]; // a segment repeats its end id in the unused slots
+  bool Curve;        // four control points; otherwise a segment Ids[0]–Ids[1]
+  vtkIdType Cell;    // the input cell it came from
+};
+
+// Reads the cell array that marks Bézier polylines. `flags` stays null when
+// there is none; a malformed one is an error rather than silently straight
+// lines, since the user evidently meant curves.
+bool FindBezierFlags(vtkPolyData* boundary, vtkDataArray*& flags, std::string& reason)
+{
+  flags = nullptr;
+  const std::string name = BezierControlPointsArrayName;
+  vtkAbstractArray* any = boundary->GetCellData()->GetAbstractArray(name.c_str());
+  if (!any)
+  {
+    if (boundary->GetPointData()->GetAbstractArray(name.c_str()))
+    {
+      reason = "'" + name +
+        "' is a point array, but it marks whole polylines as Bézier curves and must be cell data";
+      return false;
+    }
+    return true;
+  }
+  flags = vtkDataArray::SafeDownCast(any);
+  if (!flags || flags->GetNumberOfComponents() != 1 ||
+    flags->GetNumberOfTuples() != boundary->GetNumberOfCells())
+  {
+    reason = "the cell array '" + name +
+      "' must be numeric with one component and one value per cell (nonzero: the polyline "
+      "lists Bézier control points)";
+    flags = nullptr;
+    return false;
+  }
+  return true;
+}
+
+// The polylines of a 2D boundary as straight segments and Bézier curves, in
+// cell order.
+bool CollectLinePieces(vtkPolyData* boundary, vtkDataArray* flags, std::vector<LinePiece>& pieces,
+  BoundaryConversionReport& report, std::string& reason)
+{
+  auto it = vtk::TakeSmartPointer(boundary->GetLines()->NewIterator());
+  vtkIdType cellId = boundary->GetNumberOfVerts(); // lines follow the vertices
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    const double flag = flags ? flags->GetComponent(cellId, 0) : 0.0;
+    if (flag != 0.0)
+    {
+      if (!std::isfinite(flag))
+      {
+        reason = "the cell array '" + std::string(BezierControlPointsArrayName) +
+          "' has a NaN or infinite value at cell " + std::to_string(cellId);
+        return false;
+      }
+      if (n < 4 || (n - 1) % 3 != 0)
+      {
+        reason = "cell " + std::to_string(cellId) + " is marked as a Bézier curve in '" +
+          BezierControlPointsArrayName + "' but has " + std::to_string(n) +
+          " points; a piecewise cubic Bézier curve needs 3k + 1 control points (4, 7, 10, ...)";
+        return false;
+      }
+      for (vtkIdType k = 0; k + 3 < n; k += 3)
+      {
+        pieces.push_back(LinePiece{ { ids[k], ids[k + 1], ids[k + 2], ids[k + 3] }, true, cellId });
+      }
+      continue;
+    }
+    if (n < 2)
+    {
+      ++report.SkippedCells;
+      continue;
+    }
+    for (vtkIdType k = 0; k + 1 < n; ++k)
+    {
+      pieces.push_back(LinePiece{ { ids[k], ids[k + 1], ids[k + 1], ids[k + 1] }, false, cellId });
+    }
+  }
+  return true;
+}
+
+// The Bézier path of a 2D boundary: every piece becomes a cubic curve, and
+// the values become a function of (curve, t).
+bool ConvertBezierBoundary(vtkDataArray* values, bool cellData,
+  const std::vector<Vec2>& vertices, const std::vector<LinePiece>& pieces, Boundary<2>& out,
+  std::string& reason, std::shared_ptr<const BoundaryValueFunction<2>> valueFunction)
+{
+  std::vector<CubicBezier> curves;
+  curves.reserve(pieces.size());
+  for (const LinePiece& piece : pieces)
+  {
+    CubicBezier c;
+    if (piece.Curve)
+    {
+      for (int k = 0; k < 4; ++k)
+      {
+        c.P[k] = vertices[piece.Ids[k]];
+      }
+    }
+    else
+    {
+      // Inner control points at 1/3 and 2/3 of the chord make B(t) = a + t (b − a):
+      // the segment itself, with t linear along it, so point values are
+      // interpolated exactly as on a mesh segment.
+      const Vec2& a = vertices[piece.Ids[0]];
+      const Vec2& b = vertices[piece.Ids[1]];
+      c.P[0] = a;
+      c.P[1] = (2.0 * a + b) / 3.0;
+      c.P[2] = (a + 2.0 * b) / 3.0;
+      c.P[3] = b;
+    }
+    curves.push_back(c);
+  }
+  auto geometry = std::make_shared<BezierBoundaryGeometry>(std::move(curves));
+
+  if (!valueFunction)
+  {
+    if (!values)
+    {
+      reason = "no boundary values";
+      return false;
+    }
+    const int nc = values->GetNumberOfComponents();
+    std::vector<double> table;
+    if (cellData)
+    {
+      table.resize(pieces.size() * nc);
+      for (std::size_t p = 0; p < pieces.size(); ++p)
+      {
+        for (int c = 0; c < nc; ++c)
+        {
+          table[p * nc + c] = values->GetComponent(pieces[p].Cell, c);
+        }
+      }
+    }
+    else
+    {
+      // A curve's end points: P0 and P3, or the segment's two points. The
+      // handles' values are never read: the handles are not on the curve.
+      table.resize(2 * pieces.size() * nc);
+      for (std::size_t p = 0; p < pieces.size(); ++p)
+      {
+        const vtkIdType ends[2] = { pieces[p].Ids[0], pieces[p].Ids[pieces[p].Curve ? 3 : 1] };
+        for (int e = 0; e < 2; ++e)
+        {
+          for (int c = 0; c < nc; ++c)
+          {
+            table[(2 * p + e) * nc + c] = values->GetComponent(ends[e], c);
+          }
+        }
+      }
+    }
+    valueFunction = std::make_shared<BezierBoundaryValues>(pieces.size(),
+      cellData ? ValueAssociation::Cells : ValueAssociation::Points, nc, std::move(table));
+  }
+  out.SetGeometry(std::move(geometry), std::move(valueFunction));
+  return true;
+}
+
+// Uses of points with NaN or infinite coordinates by the given point ids.
+template <int DIM, typename Id>
+long long CountNonFiniteUses(const std::vector<Vec<DIM>>& vertices, const Id* ids, int n)
+{
+  long long count = 0;
+  for (int k = 0; k < n; ++k)
+  {
+    count += vertices[ids[k]].allFinite() ? 0 : 1;
+  }
+  return count;
+}
+
+// Degenerate primitives cover no length or area: a segment whose points
+// coincide, a triangle whose edges are parallel (exactly, in double; then it
+// is a segment or a point up to rounding), a curve whose control points all
+// coincide. Such a set has zero capacity (a point in 2D, a segment in 3D):
+// Brownian motion never hits it, so the exact solution does not depend on it,
+// while its closest-point weights are ill-defined (0/0). Dropping it is
+// therefore the right thing, not an approximation.
+bool IsDegenerateTriangle(const std::vector<Vec3>& vertices, const Boundary<3>::Primitive& p)
+{
+  const Vec3 e1 = vertices[p[1]] - vertices[p[0]];
+  const Vec3 e2 = vertices[p[2]] - vertices[p[0]];
+  return e1.cross(e2) == Vec3::Zero();
+}
+
+bool IsDegenerate(const std::vector<Vec2>& vertices, const LinePiece& piece)
+{
+  const Vec2& a = vertices[piece.Ids[0]];
+  if (!piece.Curve)
+  {
+    return a == vertices[piece.Ids[1]];
+  }
+  // A curve with any two distinct control points has positive length: the
+  // curve is a polynomial of degree ≤ 3 that is constant only when all its
+  // Bernstein coefficients (the control points) are equal.
+  for (int k = 1; k < 4; ++k)
+  {
+    if (!(vertices[piece.Ids[k]] == a))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string DegenerateNote(long long degenerate)
+{
+  return degenerate > 0
+    ? " (" + std::to_string(degenerate) + " degenerate ones of zero length or area were dropped)"
+    : std::string();
+}
 } // namespace
+
+const char* const BezierControlPointsArrayName = "BezierControlPoints";
 
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
@@ -85,37 +310,66 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   using Primitive = typename Boundary<DIM>::Primitive;
   std::vector<Primitive> primitives;
   std::vector<vtkIdType> sourceCell; // the input cell each primitive came from
+  std::vector<Vec<DIM>> vertices = ConvertPoints<DIM>(boundary->GetPoints());
+  const char* const nothingLeft =
+    DIM == 2 ? "the boundary has no line segments" : "the boundary has no triangles";
 
   // vtkPolyData numbers cells verts, lines, polys, strips in that order.
-  const vtkIdType firstLine = boundary->GetNumberOfVerts();
-  const vtkIdType firstPoly = firstLine + boundary->GetNumberOfLines();
+  const vtkIdType firstPoly = boundary->GetNumberOfVerts() + boundary->GetNumberOfLines();
   const vtkIdType firstStrip = firstPoly + boundary->GetNumberOfPolys();
 
   if constexpr (DIM == 2)
   {
-    // Every polyline contributes its consecutive segments.
-    auto it = vtk::TakeSmartPointer(boundary->GetLines()->NewIterator());
-    vtkIdType cellId = firstLine;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      if (n < 2)
-      {
-        ++report.SkippedCells;
-        continue;
-      }
-      for (vtkIdType k = 0; k + 1 < n; ++k)
-      {
-        Primitive p;
-        p[0] = ids[k];
-        p[1] = ids[k + 1];
-        primitives.push_back(p);
-        sourceCell.push_back(cellId);
-      }
-    }
     report.IgnoredLowerDimensionalCells = boundary->GetNumberOfVerts();
+    vtkDataArray* flags = nullptr;
+    std::vector<LinePiece> pieces;
+    if (!FindBezierFlags(boundary, flags, reason) ||
+      !CollectLinePieces(boundary, flags, pieces, report, reason))
+    {
+      return false;
+    }
+    if (pieces.empty())
+    {
+      reason = nothingLeft;
+      return false;
+    }
+    // A non-finite vertex (a handle included) would make every distance
+    // query meaningless.
+    long long nonFinite = 0;
+    bool anyCurve = false;
+    for (const LinePiece& piece : pieces)
+    {
+      nonFinite += CountNonFiniteUses<2>(vertices, piece.Ids, piece.Curve ? 4 : 2);
+      anyCurve = anyCurve || piece.Curve;
+    }
+    if (nonFinite > 0)
+    {
+      reason = "its cells use points with NaN or infinite coordinates (" +
+        std::to_string(nonFinite) + " uses)";
+      return false;
+    }
+    const auto kept = std::remove_if(pieces.begin(), pieces.end(),
+      [&](const LinePiece& piece) { return IsDegenerate(vertices, piece); });
+    report.DegenerateCells = static_cast<long long>(pieces.end() - kept);
+    pieces.erase(kept, pieces.end());
+    if (pieces.empty())
+    {
+      reason = nothingLeft + DegenerateNote(report.DegenerateCells);
+      return false;
+    }
+    if (anyCurve)
+    {
+      return ConvertBezierBoundary(
+        values, cellData, vertices, pieces, out, reason, std::move(valueFunction));
+    }
+    for (const LinePiece& piece : pieces)
+    {
+      Primitive p;
+      p[0] = piece.Ids[0];
+      p[1] = piece.Ids[1];
+      primitives.push_back(p);
+      sourceCell.push_back(piece.Cell);
+    }
   }
   else
   {
@@ -140,8 +394,9 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
         continue;
       }
       // General polygons (possibly non-convex) by ear clipping; a polygon the
-      // triangulator rejects (e.g. all points collinear) falls back to a fan,
+      // triangulator rejects (e.g. a non-planar one) falls back to a fan,
       // which still covers the polygon's points for closest-point purposes.
+      // Degenerate fan triangles (collinear points) are dropped below.
       polygon->Initialize(static_cast<int>(n), ids, boundary->GetPoints());
       triangles->Reset();
       if (polygon->Triangulate(triangles) && triangles->GetNumberOfIds() >= 3)
@@ -181,29 +436,43 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
       }
     }
     report.IgnoredLowerDimensionalCells = boundary->GetNumberOfVerts() + boundary->GetNumberOfLines();
-  }
 
-  if (primitives.empty())
-  {
-    reason = DIM == 2 ? "the boundary has no line segments" : "the boundary has no triangles";
-    return false;
-  }
-
-  // A non-finite vertex would make every distance query meaningless.
-  std::vector<Vec<DIM>> vertices = ConvertPoints<DIM>(boundary->GetPoints());
-  long long nonFinite = 0;
-  for (const Primitive& p : primitives)
-  {
-    for (int k = 0; k < DIM; ++k)
+    if (primitives.empty())
     {
-      nonFinite += vertices[p[k]].allFinite() ? 0 : 1;
+      reason = nothingLeft;
+      return false;
     }
-  }
-  if (nonFinite > 0)
-  {
-    reason = "its cells use points with NaN or infinite coordinates (" +
-      std::to_string(nonFinite) + " uses)";
-    return false;
+    // A non-finite vertex would make every distance query meaningless.
+    long long nonFinite = 0;
+    for (const Primitive& p : primitives)
+    {
+      nonFinite += CountNonFiniteUses<3>(vertices, p.data(), 3);
+    }
+    if (nonFinite > 0)
+    {
+      reason = "its cells use points with NaN or infinite coordinates (" +
+        std::to_string(nonFinite) + " uses)";
+      return false;
+    }
+    // Drop degenerate triangles, keeping each survivor's source cell.
+    std::size_t kept = 0;
+    for (std::size_t p = 0; p < primitives.size(); ++p)
+    {
+      if (!IsDegenerateTriangle(vertices, primitives[p]))
+      {
+        primitives[kept] = primitives[p];
+        sourceCell[kept] = sourceCell[p];
+        ++kept;
+      }
+    }
+    report.DegenerateCells = static_cast<long long>(primitives.size() - kept);
+    primitives.resize(kept);
+    sourceCell.resize(kept);
+    if (primitives.empty())
+    {
+      reason = nothingLeft + DegenerateNote(report.DegenerateCells);
+      return false;
+    }
   }
 
   if (valueFunction)

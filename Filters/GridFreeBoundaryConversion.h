@@ -1,6 +1,19 @@
 // Turns a vtkPolyData boundary and its value array into the estimator core's
-// Boundary<DIM>: triangles (3D) or segments (2D) plus the values on them.
+// Boundary<DIM>: triangles (3D) or segments (2D) plus the values on them, or,
+// for a 2D boundary with Bézier curves, a BezierBoundaryGeometry.
 // Private to the GridFree::Filters module.
+//
+// Bézier curves (2D only). A polyline whose value in the cell array named
+// BezierControlPointsArrayName is nonzero lists the control points of a
+// piecewise cubic Bézier curve, P0 P1 P2 P3 P4 P5 P6 …: 3k + 1 points for k
+// curves, consecutive curves sharing their end point (P3 ends the first curve
+// and starts the second). Polylines with value 0, or all polylines when there
+// is no such array, are straight segments. As soon as one Bézier polyline is
+// present the whole boundary becomes Bézier curves, each straight segment an
+// exactly straight cubic (inner control points at 1/3 and 2/3, so t runs
+// linearly along it). Point values are interpolated linearly in t between a
+// curve's end points P0 and P3 (inner handles are off the curve, their values
+// are not used); cell values are constant on a polyline.
 #ifndef GridFreeBoundaryConversion_h
 #define GridFreeBoundaryConversion_h
 
@@ -20,7 +33,15 @@ struct BoundaryConversionReport
   long long SkippedCells = 0;
   // Lines/vertices ignored in a 3D boundary (which is made of surfaces).
   long long IgnoredLowerDimensionalCells = 0;
+  // Primitives dropped because they cover no length or area: segments whose
+  // two points coincide, triangles (after triangulating polygons and strips)
+  // whose edge cross product is exactly zero, and Bézier curves whose four
+  // control points coincide. Counted per segment, triangle or curve.
+  long long DegenerateCells = 0;
 };
+
+// Name of the cell array that marks polylines of Bézier control points.
+extern const char* const BezierControlPointsArrayName;
 
 // The problem's dimension: 3 if the boundary has polygons or strips, 2 if it
 // has only lines that all lie in one z-plane, 0 (with a reason) otherwise.

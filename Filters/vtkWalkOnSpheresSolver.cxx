@@ -2,6 +2,7 @@
 
 #include "Geometry/ImplicitBoundary.h"
 #include "GridFreeBoundaryConversion.h"
+#include "GridFreeCsgBoundary.h"
 #include "GridFreeImplicitBoundary.h"
 #include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
@@ -11,7 +12,10 @@
 
 #include "vtkAbstractArray.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
@@ -23,6 +27,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
@@ -183,6 +188,12 @@ struct vtkWalkOnSpheresSolverInputs
 {
   vtkPolyData* Boundary = nullptr; // the mesh, or the value carrier of an implicit boundary
   vtkImplicitFunction* Implicit = nullptr;
+  // CSG: the blocks as operands (with their values unless expressions give
+  // them), combined with Implicit, if set, as the last operand.
+  std::vector<gridfree::CsgMeshOperand> CsgOperands;
+  int CsgOperation = vtkWalkOnSpheresSolver::CSG_NONE;
+  double CsgBlendRadius = 0.0;
+  std::vector<vtkSmartPointer<vtkDataArray>> CsgValues; // keeps the operands' values alive
   std::vector<std::string> ValueExpressions; // g (and h), replacing Values when set
   vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
   bool CellData = false;
@@ -208,12 +219,180 @@ class vtkWalkOnSpheresSolverRunner
     {
       in.Boundary->GetBounds(bounds);
     }
+    else if (DIM == 2 && !in.CsgOperands.empty() && in.CsgOperands.front().Mesh)
+    {
+      in.CsgOperands.front().Mesh->GetBounds(bounds);
+    }
     return bounds[4];
   }
 
+  // Warnings for the cells a conversion dropped.
+  static void ReportDroppedCells(vtkWalkOnSpheresSolver* self, long long lowerDimensional,
+    long long skipped, long long degenerate)
+  {
+    if (lowerDimensional > 0)
+    {
+      vtkWarningWithObjectMacro(self, << "Ignored " << lowerDimensional
+                                      << " boundary cells of lower dimension than the " << DIM
+                                      << "D problem (vertices" << (DIM == 3 ? " and lines" : "")
+                                      << ").");
+    }
+    if (skipped > 0)
+    {
+      vtkWarningWithObjectMacro(
+        self, << "Skipped " << skipped << " boundary cells with too few points.");
+    }
+    if (degenerate > 0)
+    {
+      vtkWarningWithObjectMacro(self, << "Ignored " << degenerate << " degenerate boundary "
+                                      << (DIM == 3 ? "triangles of zero area (repeated or "
+                                                     "collinear points)."
+                                                   : "segments or Bézier curves of zero length "
+                                                     "(repeated points)."));
+    }
+  }
+
+  // The box of the probe's points (and `extra`), enlarged by half: the
+  // problem's region where the boundary is not known to be bounded.
+  static gridfree::BoundingBox<DIM> ProbeRegion(
+    const vtkWalkOnSpheresSolverInputs& in, const gridfree::BoundingBox<DIM>& extra)
+  {
+    gridfree::BoundingBox<DIM> region;
+    double b[6];
+    in.Probe->GetBounds(b);
+    gridfree::Vec<DIM> lo, hi;
+    for (int k = 0; k < DIM; ++k)
+    {
+      lo[k] = b[2 * k];
+      hi[k] = b[2 * k + 1];
+    }
+    region.Expand(lo);
+    region.Expand(hi);
+    if (!extra.IsEmpty())
+    {
+      region.Expand(extra);
+    }
+    const gridfree::Vec<DIM> centre = region.Center();
+    const gridfree::Vec<DIM> half = 0.75 * region.Extent() +
+      gridfree::Vec<DIM>::Constant(1e-3 * std::max(region.Diagonal(), 1e-12));
+    return gridfree::BoundingBox<DIM>(centre - half, centre + half);
+  }
+
+  // φ of the implicit boundary: the module's exact distances (and boolean
+  // trees of them) run in the core, with exact gradients and L = 1 (`exact`);
+  // anything else is called through VTK. A known bound (1, or a linear
+  // Transform's factor) is never lowered by LipschitzBound; a larger
+  // LipschitzBound only shortens the steps. Null, with an error, for invalid
+  // parameters.
+  static std::shared_ptr<const gridfree::SignedDistanceFunction<3>> MakeImplicitFunction(
+    vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in, bool& exact,
+    double& lipschitz)
+  {
+    const std::string invalid = gridfree::InvalidPrimitiveError(in.Implicit);
+    if (!invalid.empty())
+    {
+      vtkErrorWithObjectMacro(self, << "Cannot use the implicit boundary: " << invalid << ".");
+      return nullptr;
+    }
+    std::shared_ptr<const gridfree::SignedDistanceFunction<3>> phi =
+      gridfree::MakeExactImplicitDistance(in.Implicit);
+    exact = phi != nullptr;
+    lipschitz = std::max(self->LipschitzBound, gridfree::KnownLipschitzBound(in.Implicit));
+    if (!exact)
+    {
+      phi = std::make_shared<gridfree::VtkImplicitFunctionDistance>(in.Implicit, lipschitz);
+    }
+    return phi;
+  }
+
+  // Never trust a function's scale: look for a steeper slope than L in
+  // `checked`, on the sides of the surface the probe is on (where walks go).
+  static void CheckLipschitz(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in,
+    const gridfree::SignedDistanceFunction<3>& phi, double lipschitz,
+    const gridfree::BoundingBox<3>& checked)
+  {
+    bool inside = false, outside = false;
+    const vtkIdType n = in.Probe->GetNumberOfPoints();
+    const vtkIdType stride = std::max<vtkIdType>(1, n / 1000);
+    for (vtkIdType i = 0; i < n; i += stride)
+    {
+      double p[3];
+      in.Probe->GetPoint(i, p);
+      const double value = phi.Value(gridfree::Vec3(p[0], p[1], p[2]));
+      inside = inside || value < 0.0;
+      outside = outside || value > 0.0;
+    }
+    const int side = inside == outside ? 0 : (inside ? -1 : 1);
+    const double observed = gridfree::ObservedLipschitz(phi, checked, 4096, side);
+    if (observed > lipschitz * (1.0 + 1e-6))
+    {
+      vtkWarningWithObjectMacro(self, << "The implicit boundary's function changes faster than "
+                                         "LipschitzBound = "
+                                      << lipschitz << " (slope " << observed
+                                      << " seen near the boundary): walks may step across the "
+                                         "boundary. Set LipschitzBound to at least "
+                                      << observed << " or use a signed distance function.");
+    }
+  }
+
+  // The CSG of the Boundary's blocks and the implicit boundary (paper Sec.
+  // 5.1.4), with values from the expressions or each block's own array.
+  static bool BuildCsg(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in,
+    std::shared_ptr<const gridfree::BoundaryValueFunction<DIM>> valueFunction,
+    gridfree::Boundary<DIM>& geometry)
+  {
+    std::shared_ptr<const gridfree::SignedDistanceFunction<DIM>> implicitOperand;
+    bool exact = true;
+    double lipschitz = 1.0;
+    if (in.Implicit)
+    {
+      if constexpr (DIM == 3)
+      {
+        implicitOperand = MakeImplicitFunction(self, in, exact, lipschitz);
+        if (!implicitOperand)
+        {
+          return false;
+        }
+      }
+      else
+      {
+        vtkErrorWithObjectMacro(self, << "An implicit boundary makes a 3D problem: it cannot be "
+                                         "combined with a 2D boundary of lines.");
+        return false;
+      }
+    }
+    const gridfree::CsgOperation operation = in.CsgOperation == vtkWalkOnSpheresSolver::CSG_UNION
+      ? gridfree::CsgOperation::Union
+      : (in.CsgOperation == vtkWalkOnSpheresSolver::CSG_INTERSECTION
+            ? gridfree::CsgOperation::Intersection
+            : gridfree::CsgOperation::Difference);
+    gridfree::CsgBoundaryReport report;
+    std::string reason;
+    const gridfree::BoundingBox<DIM> probeBox = ProbeRegion(in, gridfree::BoundingBox<DIM>());
+    if (!gridfree::BuildCsgBoundary<DIM>(in.CsgOperands, implicitOperand, operation,
+          in.CsgBlendRadius, valueFunction, probeBox, geometry, report, reason))
+    {
+      vtkErrorWithObjectMacro(self, << "Cannot combine the boundary operands: " << reason << ".");
+      return false;
+    }
+    ReportDroppedCells(
+      self, report.IgnoredLowerDimensionalCells, report.SkippedCells, report.DegenerateCells);
+    if constexpr (DIM == 3)
+    {
+      if (implicitOperand && !exact)
+      {
+        gridfree::BoundingBox<3> checked = implicitOperand->Bounds();
+        CheckLipschitz(self, in, *implicitOperand, lipschitz,
+          checked.IsEmpty() ? ProbeRegion(in, gridfree::BoundingBox<3>()) : checked);
+      }
+    }
+    return true;
+  }
+
   // The core boundary: the mesh with its value table, a mesh with values from
-  // expressions, or an implicit surface with values from expressions or
-  // sampled from the Boundary input's mesh.
+  // expressions, an implicit surface with values from expressions or
+  // sampled from the Boundary input's mesh, or a CSG of blocks and the
+  // implicit surface.
   static bool BuildBoundary(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in,
     gridfree::Boundary<DIM>& geometry)
   {
@@ -223,6 +402,10 @@ class vtkWalkOnSpheresSolverRunner
       valueFunction = std::make_shared<gridfree::VolumeBoundaryValues<DIM>>(
         gridfree::MakeExpressionListFactory<DIM>(in.ValueExpressions, PlaneZ(in)),
         static_cast<int>(in.ValueExpressions.size()));
+    }
+    if (in.CsgOperation != vtkWalkOnSpheresSolver::CSG_NONE)
+    {
+      return BuildCsg(self, in, valueFunction, geometry);
     }
     auto mesh = std::make_shared<gridfree::Boundary<DIM>>();
     if (in.Boundary && !(in.Implicit && valueFunction))
@@ -235,18 +418,8 @@ class vtkWalkOnSpheresSolverRunner
         vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
         return false;
       }
-      if (report.IgnoredLowerDimensionalCells > 0)
-      {
-        vtkWarningWithObjectMacro(self, << "Ignored " << report.IgnoredLowerDimensionalCells
-                                        << " boundary cells of lower dimension than the "
-                                        << DIM << "D problem (vertices"
-                                        << (DIM == 3 ? " and lines" : "") << ").");
-      }
-      if (report.SkippedCells > 0)
-      {
-        vtkWarningWithObjectMacro(
-          self, << "Skipped " << report.SkippedCells << " boundary cells with too few points.");
-      }
+      ReportDroppedCells(
+        self, report.IgnoredLowerDimensionalCells, report.SkippedCells, report.DegenerateCells);
     }
     if (!in.Implicit)
     {
@@ -255,59 +428,34 @@ class vtkWalkOnSpheresSolverRunner
     }
     if constexpr (DIM == 3)
     {
-      auto phi =
-        std::make_shared<gridfree::VtkImplicitFunctionDistance>(in.Implicit, self->LipschitzBound);
-      auto shape = std::make_shared<gridfree::ImplicitBoundaryGeometry<3>>(phi);
+      bool exact = false;
+      double lipschitz = 1.0;
+      const auto phi = MakeImplicitFunction(self, in, exact, lipschitz);
+      if (!phi)
+      {
+        return false;
+      }
+      auto shape = std::make_shared<gridfree::ImplicitBoundaryGeometry<3>>(phi, lipschitz);
       if (!valueFunction)
       {
         valueFunction = std::make_shared<gridfree::SampledBoundaryValues<3>>(mesh);
       }
       // Where the function's zero set is not known to be bounded, the problem
       // lives in the box of the probe (and of the value mesh), enlarged.
-      gridfree::BoundingBox<3> region;
-      double b[6];
-      in.Probe->GetBounds(b);
-      region.Expand(gridfree::Vec3(b[0], b[2], b[4]));
-      region.Expand(gridfree::Vec3(b[1], b[3], b[5]));
+      gridfree::BoundingBox<3> meshBox;
       if (!mesh->Empty())
       {
-        region.Expand(mesh->BoundsMin());
-        region.Expand(mesh->BoundsMax());
+        meshBox.Expand(mesh->BoundsMin());
+        meshBox.Expand(mesh->BoundsMax());
       }
-      const gridfree::Vec3 centre = region.Center();
-      const gridfree::Vec3 half = 0.75 * region.Extent() +
-        gridfree::Vec3::Constant(1e-3 * std::max(region.Diagonal(), 1e-12));
-      region = gridfree::BoundingBox<3>(centre - half, centre + half);
+      const gridfree::BoundingBox<3> region = ProbeRegion(in, meshBox);
       geometry.SetGeometry(shape, valueFunction, region);
 
-      // Never trust a function's scale: look for a steeper slope than L.
-      gridfree::BoundingBox<3> checked = shape->Bounds();
-      if (checked.IsEmpty())
+      // Exact distances need no check: their slope is 1 by construction.
+      if (!exact)
       {
-        checked = region;
-      }
-      // Only where the walks go: the sides of the surface the probe is on.
-      bool inside = false, outside = false;
-      const vtkIdType n = in.Probe->GetNumberOfPoints();
-      const vtkIdType stride = std::max<vtkIdType>(1, n / 1000);
-      for (vtkIdType i = 0; i < n; i += stride)
-      {
-        double p[3];
-        in.Probe->GetPoint(i, p);
-        const double value = phi->Value(gridfree::Vec3(p[0], p[1], p[2]));
-        inside = inside || value < 0.0;
-        outside = outside || value > 0.0;
-      }
-      const int side = inside == outside ? 0 : (inside ? -1 : 1);
-      const double observed = gridfree::ObservedLipschitz(*phi, checked, 4096, side);
-      if (observed > self->LipschitzBound * (1.0 + 1e-6))
-      {
-        vtkWarningWithObjectMacro(self, << "The implicit boundary's function changes faster than "
-                                           "LipschitzBound = "
-                                        << self->LipschitzBound << " (slope " << observed
-                                        << " seen near the boundary): walks may step across the "
-                                           "boundary. Set LipschitzBound to at least "
-                                        << observed << " or use a signed distance function.");
+        gridfree::BoundingBox<3> checked = shape->Bounds();
+        CheckLipschitz(self, in, *phi, lipschitz, checked.IsEmpty() ? region : checked);
       }
       return true;
     }
@@ -619,7 +767,10 @@ int vtkWalkOnSpheresSolver::FillInputPortInformation(int port, vtkInformation* i
 {
   if (port == BoundaryPort)
   {
+    // A composite of polygonal blocks is taken whole (for CSG), not block
+    // by block as the composite pipeline would otherwise do.
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
   }
   else
   {
@@ -792,6 +943,174 @@ vtkSmartPointer<vtkDoubleArray> Concatenate(vtkDataArray* g, vtkDataArray* h)
 } // namespace
 
 //------------------------------------------------------------------------------
+// Resolves and checks the boundary values of the Boundary input, or of each
+// block of a CSG boundary: the selected array g (else the active scalars),
+// and h for the biharmonic equation, side by side in one array.
+class vtkWalkOnSpheresSolverBoundaryValues
+{
+public:
+  // g (and h) of one mesh; `what` names it in messages. `combined` is null
+  // when the values come from expressions.
+  static bool OfMesh(vtkWalkOnSpheresSolver* self, vtkPolyData* mesh, const std::string& what,
+    std::string& name, vtkSmartPointer<vtkDataArray>& combined, bool& cellData)
+  {
+    std::string reason;
+    int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    vtkDataArray* values = self->ResolveArray(0, mesh, true, association, reason);
+    if (!values)
+    {
+      vtkErrorWithObjectMacro(self,
+        << (reason.empty()
+               ? "No boundary values on " + what +
+                 ": select a numeric point or cell array with SetInputArrayToProcess(0, 0, 0, "
+                 "association, name), or set BoundaryValueExpression."
+               : "Cannot use the boundary values of " + what + ": " + reason + "."));
+      return false;
+    }
+    if (values->GetName() && *values->GetName())
+    {
+      name = values->GetName();
+    }
+    cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+    if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS && !cellData)
+    {
+      vtkErrorWithObjectMacro(self, << "Boundary values must be point data or cell data.");
+      return false;
+    }
+    // Non-finite boundary data would silently poison every walk that ends near it.
+    if (const vtkIdType nonFinite = CountNonFinite(values))
+    {
+      vtkErrorWithObjectMacro(self, << "The boundary value array '" << name << "' of " << what
+                                    << " has " << nonFinite
+                                    << " NaN or infinite values: boundary values must be finite.");
+      return false;
+    }
+    combined = values;
+    if (self->Equation != vtkWalkOnSpheresSolver::BIHARMONIC)
+    {
+      return true;
+    }
+    // The biharmonic equation's second boundary array h = Δu.
+    int hAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    vtkDataArray* h = self->ResolveArray(1, mesh, false, hAssociation, reason);
+    if (!h)
+    {
+      vtkErrorWithObjectMacro(self, << "The biharmonic equation needs a second boundary array for "
+                                       "the Laplacian h (Δu = h on the boundary) on "
+                                    << what
+                                    << ", selected with SetInputArrayToProcess(1, 0, 0, "
+                                       "association, name)"
+                                    << (reason.empty() ? std::string(".") : ": " + reason + "."));
+      return false;
+    }
+    if (hAssociation != association ||
+      h->GetNumberOfComponents() != values->GetNumberOfComponents())
+    {
+      vtkErrorWithObjectMacro(self, << "The Laplacian array '" << (h->GetName() ? h->GetName() : "")
+                                    << "' must have the association (point or cell data) and "
+                                       "the number of components of the boundary value array '"
+                                    << name << "'.");
+      return false;
+    }
+    if (const vtkIdType nonFinite = CountNonFinite(h))
+    {
+      vtkErrorWithObjectMacro(self, << "The Laplacian array has " << nonFinite
+                                    << " NaN or infinite values: boundary values must be finite.");
+      return false;
+    }
+    combined = Concatenate(values, h);
+    return true;
+  }
+
+  // The problem's dimension and values for a single Boundary input.
+  static bool OfBoundary(vtkWalkOnSpheresSolver* self, vtkPolyData* boundary, bool implicit,
+    bool expressionValues, int& dimension, std::string& name,
+    vtkSmartPointer<vtkDataArray>& combined, bool& cellData)
+  {
+    std::string reason;
+    if (boundary)
+    {
+      dimension = gridfree::DetectBoundaryDimension(boundary, reason);
+      if (dimension == 0)
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
+        return false;
+      }
+      if (implicit && dimension != 3)
+      {
+        vtkErrorWithObjectMacro(self, << "An implicit boundary makes a 3D problem: the mesh its "
+                                         "values are sampled from must be a surface (polygons), "
+                                         "not lines.");
+        return false;
+      }
+    }
+    return expressionValues ||
+      OfMesh(self, boundary, "the Boundary input", name, combined, cellData);
+  }
+
+  // The operands of a CSG boundary: every block (and the implicit boundary)
+  // in one dimension, each block with its own values unless expressions
+  // give them.
+  static bool OfCsgOperands(vtkWalkOnSpheresSolver* self, const std::vector<vtkPolyData*>& blocks,
+    bool expressionValues, vtkWalkOnSpheresSolverInputs& inputs, int& dimension, std::string& name)
+  {
+    const bool implicit = self->ImplicitBoundary != nullptr;
+    dimension = implicit ? 3 : 0;
+    int components = 0;
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+    {
+      const std::string what = blocks.size() == 1 && !implicit
+        ? std::string("the Boundary input")
+        : "block " + std::to_string(i) + " of the Boundary input";
+      std::string reason;
+      const int d = gridfree::DetectBoundaryDimension(blocks[i], reason);
+      if (d == 0)
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use " << what << ": " << reason << ".");
+        return false;
+      }
+      if (dimension != 0 && d != dimension)
+      {
+        vtkErrorWithObjectMacro(self, << "The CSG operands mix 2D and 3D: " << what << " makes a "
+                                      << d << "D problem, "
+                                      << (implicit ? "the implicit boundary" : "block 0")
+                                      << " a " << dimension << "D one.");
+        return false;
+      }
+      dimension = d;
+      gridfree::CsgMeshOperand operand;
+      operand.Mesh = blocks[i];
+      if (!expressionValues)
+      {
+        vtkSmartPointer<vtkDataArray> values;
+        std::string blockName = name;
+        if (!OfMesh(self, blocks[i], what, blockName, values, operand.CellData))
+        {
+          return false;
+        }
+        if (i == 0)
+        {
+          name = blockName;
+          components = values->GetNumberOfComponents();
+        }
+        else if (values->GetNumberOfComponents() != components)
+        {
+          vtkErrorWithObjectMacro(self, << "The boundary values of " << what << " have "
+                                        << values->GetNumberOfComponents()
+                                        << " components, those of block 0 " << components
+                                        << ": every block needs the same number.");
+          return false;
+        }
+        operand.Values = values;
+        inputs.CsgValues.push_back(values);
+      }
+      inputs.CsgOperands.push_back(operand);
+    }
+    return true;
+  }
+};
+
+//------------------------------------------------------------------------------
 int vtkWalkOnSpheresSolver::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -799,12 +1118,62 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastSolveSeconds = 0.0;
   this->LastDimension = 0;
 
-  vtkPolyData* boundary = vtkPolyData::GetData(inputVector[BoundaryPort], 0);
+  vtkDataObject* boundaryObject = vtkDataObject::GetData(inputVector[BoundaryPort], 0);
+  vtkPolyData* boundary = vtkPolyData::SafeDownCast(boundaryObject);
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
   vtkDataSet* source = vtkDataSet::GetData(inputVector[SourcePort], 0);
   vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
   const bool implicit = this->ImplicitBoundary != nullptr;
-  if (!boundary && !implicit)
+  const bool csg = this->CsgOperation != CSG_NONE;
+
+  // A composite boundary: its vtkPolyData leaves are the CSG operands, or,
+  // without CSG, one polygon soup.
+  std::vector<vtkPolyData*> blocks;
+  vtkNew<vtkAppendPolyData> merged;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(boundaryObject))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    it->SkipEmptyNodesOn();
+    int index = 0;
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem(), ++index)
+    {
+      vtkDataObject* leaf = it->GetCurrentDataObject();
+      auto* poly = vtkPolyData::SafeDownCast(leaf);
+      if (!poly)
+      {
+        vtkErrorMacro(<< "Block " << index << " of the Boundary input is a "
+                      << (leaf ? leaf->GetClassName() : "null object")
+                      << ", not a vtkPolyData: every block of a composite boundary must be a "
+                         "surface (or, in 2D, lines).");
+        return 0;
+      }
+      blocks.push_back(poly);
+    }
+    if (blocks.empty())
+    {
+      vtkErrorMacro(<< "The composite Boundary input has no vtkPolyData blocks.");
+      return 0;
+    }
+    if (!csg)
+    {
+      for (vtkPolyData* block : blocks)
+      {
+        merged->AddInputData(block);
+      }
+      merged->Update();
+      boundary = merged->GetOutput();
+    }
+  }
+  else if (csg && boundary)
+  {
+    blocks.push_back(boundary); // one closed mesh is one operand
+  }
+  if (csg)
+  {
+    boundary = nullptr;
+  }
+  if (!boundary && blocks.empty() && !implicit)
   {
     vtkErrorMacro(<< "No Boundary input: connect a vtkPolyData with boundary values to port 0, "
                      "or set an ImplicitBoundary.");
@@ -850,7 +1219,7 @@ int vtkWalkOnSpheresSolver::RequestData(
     }
   }
   const bool expressionValues = !inputs.ValueExpressions.empty();
-  if (implicit && !expressionValues && !boundary)
+  if (implicit && !expressionValues && !boundary && !csg)
   {
     vtkErrorMacro(<< "The implicit boundary has no values: set BoundaryValueExpression, or "
                      "connect a mesh with boundary values to port 0 to sample them from.");
@@ -864,55 +1233,22 @@ int vtkWalkOnSpheresSolver::RequestData(
   }
 
   int dimension = 3;
-  if (boundary)
-  {
-    dimension = gridfree::DetectBoundaryDimension(boundary, reason);
-    if (dimension == 0)
-    {
-      vtkErrorMacro(<< "Cannot use the Boundary input: " << reason << ".");
-      return 0;
-    }
-    if (implicit && dimension != 3)
-    {
-      vtkErrorMacro(<< "An implicit boundary makes a 3D problem: the mesh its values are "
-                       "sampled from must be a surface (polygons), not lines.");
-      return 0;
-    }
-  }
-
-  // The boundary values g: the selected array, else the active scalars.
-  int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* values = nullptr;
   std::string name = "Solution";
-  if (!expressionValues)
+  vtkSmartPointer<vtkDataArray> combined;
+  bool cellData = false;
+  if (csg)
   {
-    values = this->ResolveArray(0, boundary, true, association, reason);
-    if (!values)
+    if (!vtkWalkOnSpheresSolverBoundaryValues::OfCsgOperands(
+          this, blocks, expressionValues, inputs, dimension, name))
     {
-      vtkErrorMacro(<< (reason.empty()
-                         ? std::string("No boundary values: select a numeric point or cell array "
-                                       "of the Boundary input with SetInputArrayToProcess(0, 0, "
-                                       "0, association, name), or set BoundaryValueExpression.")
-                         : "Cannot use the boundary values: " + reason + "."));
       return 0;
     }
-    if (values->GetName() && *values->GetName())
-    {
-      name = values->GetName();
-    }
+    inputs.CsgOperation = this->CsgOperation;
+    inputs.CsgBlendRadius = this->CsgBlendRadius;
   }
-  const bool cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
-  if (values && association != vtkDataObject::FIELD_ASSOCIATION_POINTS && !cellData)
+  else if (!vtkWalkOnSpheresSolverBoundaryValues::OfBoundary(
+             this, boundary, implicit, expressionValues, dimension, name, combined, cellData))
   {
-    vtkErrorMacro(<< "Boundary values must be point data or cell data.");
-    return 0;
-  }
-
-  // Non-finite boundary data would silently poison every walk that ends near it.
-  if (const vtkIdType nonFinite = values ? CountNonFinite(values) : 0)
-  {
-    vtkErrorMacro(<< "The boundary value array '" << name << "' has " << nonFinite
-                  << " NaN or infinite values: boundary values must be finite.");
     return 0;
   }
 
@@ -921,38 +1257,6 @@ int vtkWalkOnSpheresSolver::RequestData(
     vtkErrorMacro(<< "The screened Poisson equation needs ScreeningCoefficient > 0 (got "
                   << this->ScreeningCoefficient << "); use the Poisson equation for c = 0.");
     return 0;
-  }
-
-  // The biharmonic equation's second boundary array h = Δu.
-  vtkSmartPointer<vtkDataArray> combined = values;
-  if (this->Equation == BIHARMONIC && values)
-  {
-    int hAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-    vtkDataArray* h = this->ResolveArray(1, boundary, false, hAssociation, reason);
-    if (!h)
-    {
-      vtkErrorMacro(<< "The biharmonic equation needs a second boundary array for the "
-                       "Laplacian h (Δu = h on the boundary), selected with "
-                       "SetInputArrayToProcess(1, 0, 0, association, name)"
-                    << (reason.empty() ? std::string(".") : ": " + reason + "."));
-      return 0;
-    }
-    if (hAssociation != association ||
-      h->GetNumberOfComponents() != values->GetNumberOfComponents())
-    {
-      vtkErrorMacro(<< "The Laplacian array '" << (h->GetName() ? h->GetName() : "")
-                    << "' must have the association (point or cell data) and the number of "
-                       "components of the boundary value array '"
-                    << name << "'.");
-      return 0;
-    }
-    if (const vtkIdType nonFinite = CountNonFinite(h))
-    {
-      vtkErrorMacro(<< "The Laplacian array has " << nonFinite
-                    << " NaN or infinite values: boundary values must be finite.");
-      return 0;
-    }
-    combined = Concatenate(values, h);
   }
 
   // Source terms: the Source input's point array and the expression.
@@ -1027,6 +1331,8 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ImplicitBoundary: " << this->ImplicitBoundary << "\n";
   os << indent << "LipschitzBound: " << this->LipschitzBound << "\n";
+  os << indent << "CsgOperation: " << this->CsgOperation << "\n";
+  os << indent << "CsgBlendRadius: " << this->CsgBlendRadius << "\n";
   os << indent << "BoundaryValueExpression: "
      << (this->BoundaryValueExpression ? this->BoundaryValueExpression : "(none)") << "\n";
   os << indent << "BoundaryLaplacianExpression: "

@@ -16,7 +16,8 @@
  * - Biharmonic: Δ²u = 0, u = g and Δu = h on the boundary.
  * The sign convention is the standard Laplacian: Δ|x|² = 2n.
  *
- * Input port 0, "Boundary", is a vtkPolyData. Triangles, polygons and triangle
+ * Input port 0, "Boundary", is a vtkPolyData (or a composite of them, see
+ * below). Triangles, polygons and triangle
  * strips make a 3D problem (a polygon soup is fine: no watertightness,
  * manifoldness or orientation is assumed). A boundary made only of lines and
  * polylines that lie in one z-plane makes a 2D problem in that plane. The
@@ -37,6 +38,17 @@
  * x, y, z at the boundary point) or, without one, from the Boundary input
  * sampled at its closest point to the implicit surface's point. The Boundary
  * input is then optional; an implicit problem is always 3D.
+ *
+ * The Boundary input may also be a composite dataset (a vtkMultiBlockDataSet,
+ * e.g. ParaView's Group Datasets) whose leaves are vtkPolyData. With
+ * CsgOperation None (the default) its blocks are one polygon soup. With
+ * Union, Intersection or Difference each block is a closed solid (its
+ * inside found by ray parity, so orientation and duplicate vertices do not
+ * matter) and they are combined, with the implicit boundary, if set, as the
+ * last operand (paper Sec. 5.1.4): a Difference removes all other operands
+ * from the first block. CsgBlendRadius > 0 blends the surfaces smoothly.
+ * Values come from BoundaryValueExpression, or from each block's own array
+ * (the one selected, by name) at its closest point.
  *
  * Input port 1, "Probe", is any vtkDataSet; the output has the probe's type,
  * structure and arrays (an image stays an image).
@@ -127,6 +139,42 @@ public:
    */
   void SetImplicitBoundary(vtkImplicitFunction* function);
   vtkGetObjectMacro(ImplicitBoundary, vtkImplicitFunction);
+  ///@}
+
+  /**
+   * How the blocks of a composite Boundary input (and the implicit boundary)
+   * make one domain: CSG_NONE (default: the blocks are one polygon soup and
+   * an implicit boundary takes its values from them), CSG_UNION,
+   * CSG_INTERSECTION, or CSG_DIFFERENCE (the first block minus all others).
+   */
+  enum CsgOperationType
+  {
+    CSG_NONE = 0,
+    CSG_UNION,
+    CSG_INTERSECTION,
+    CSG_DIFFERENCE
+  };
+
+  ///@{
+  /**
+   * The CSG operation of the boundary operands (see CsgOperationType).
+   */
+  vtkSetClampMacro(CsgOperation, int, CSG_NONE, CSG_DIFFERENCE);
+  vtkGetMacro(CsgOperation, int);
+  void SetCsgOperationToNone() { this->SetCsgOperation(CSG_NONE); }
+  void SetCsgOperationToUnion() { this->SetCsgOperation(CSG_UNION); }
+  void SetCsgOperationToIntersection() { this->SetCsgOperation(CSG_INTERSECTION); }
+  void SetCsgOperationToDifference() { this->SetCsgOperation(CSG_DIFFERENCE); }
+  ///@}
+
+  ///@{
+  /**
+   * Radius of the smooth blend between CSG operands (default 0: sharp
+   * edges). The blended surface lies within about a quarter of this radius
+   * of the sharp one, and the step radius stays a safe distance bound.
+   */
+  vtkSetClampMacro(CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(CsgBlendRadius, double);
   ///@}
 
   ///@{
@@ -369,6 +417,8 @@ protected:
 
   vtkImplicitFunction* ImplicitBoundary = nullptr;
   double LipschitzBound = 1.0;
+  int CsgOperation = CSG_NONE;
+  double CsgBlendRadius = 0.0;
   char* BoundaryValueExpression = nullptr;
   char* BoundaryLaplacianExpression = nullptr;
   int Equation = LAPLACE;
@@ -400,6 +450,7 @@ private:
   template <int DIM>
   friend class vtkWalkOnSpheresSolverRunner;
   friend struct vtkWalkOnSpheresSolverInputs;
+  friend class vtkWalkOnSpheresSolverBoundaryValues;
 };
 
 #endif

@@ -110,6 +110,10 @@ public:
                        : this->Primitives.size();
   }
   bool IsMesh() const { return !this->Shape; }
+  // The mesh as given (empty for another geometry): a CSG operand builds its
+  // signed distance from them.
+  const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }
+  const std::vector<Primitive>& MeshPrimitives() const { return this->Primitives; }
   const Bvh<DIM>& Hierarchy() const { return this->Tree; }
   const Vec<DIM>& BoundsMin() const { return this->Min; }
   const Vec<DIM>& BoundsMax() const { return this->Max; }
@@ -173,20 +177,8 @@ public:
   // Only used to pick a side for points exactly on the boundary.
   Vec<DIM> PrimitiveNormal(std::int64_t primitive) const
   {
-    const Primitive& p = this->Primitives[static_cast<std::size_t>(primitive)];
-    Vec<DIM> n = Vec<DIM>::Zero();
-    if constexpr (DIM == 2)
-    {
-      const Vec<DIM> e = this->Vertices[p[1]] - this->Vertices[p[0]];
-      n << -e[1], e[0];
-    }
-    else
-    {
-      n = (this->Vertices[p[1]] - this->Vertices[p[0]])
-            .cross(this->Vertices[p[2]] - this->Vertices[p[0]]);
-    }
-    const double length = n.norm();
-    return length > 0.0 ? Vec<DIM>(n / length) : Vec<DIM>::Zero();
+    return SimplexUnitNormal<DIM>(
+      this->Vertices, this->Primitives[static_cast<std::size_t>(primitive)]);
   }
 
   // Boundary value g at a closest point: barycentric interpolation of point

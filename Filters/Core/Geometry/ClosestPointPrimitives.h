@@ -17,7 +17,9 @@
 
 #include <Eigen/Geometry> // cross product
 
+#include <cmath>
 #include <limits>
+#include <vector>
 
 namespace gridfree
 {
@@ -226,6 +228,25 @@ inline double SquaredDistanceToTriangle(
     }
   }
   return detail::TriangleClosestPoint(x, a, b, c, f).squaredDistance;
+}
+
+/// Unit normal of the simplex `ids` of `vertices` in its vertex order
+/// (segment: left normal; triangle: right-handed); zero for a degenerate one.
+template <int DIM, typename Ids>
+Vec<DIM> SimplexUnitNormal(const std::vector<Vec<DIM>>& vertices, const Ids& ids)
+{
+  Vec<DIM> n = Vec<DIM>::Zero();
+  if constexpr (DIM == 2)
+  {
+    const Vec<DIM> e = vertices[ids[1]] - vertices[ids[0]];
+    n << -e[1], e[0];
+  }
+  else
+  {
+    n = (vertices[ids[1]] - vertices[ids[0]]).cross(vertices[ids[2]] - vertices[ids[0]]);
+  }
+  const double length = n.norm();
+  return length > 0.0 && std::isfinite(length) ? Vec<DIM>(n / length) : Vec<DIM>::Zero();
 }
 } // namespace gridfree
 
