@@ -41,6 +41,7 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 vtkStandardNewMacro(vtkWalkOnSpheresSolver);
@@ -559,79 +560,212 @@ public:
     bool unboundedSource = false;
 
     const auto start = std::chrono::steady_clock::now();
-    const bool completed = gridfree::ParallelForWithProgress(
-      static_cast<std::size_t>(numPoints), self->NumberOfThreads,
-      [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
-        std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-          sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
-        gridfree::WalkCounters sum;
-        std::array<vtkIdType, 3> counts = { 0, 0, 0 };
-        bool bounded = true;
-        // Copies one point's statistics to the output arrays.
-        auto store = [&](std::size_t i, const gridfree::RunningStatistics& stats, int valueAt,
-                       int laplacianAt, const gridfree::WalkCounters& counters) {
-          for (int c = 0; c < nc; ++c)
-          {
-            mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
-            variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
-            if (biharmonic)
+    auto reportProgress = [self](double fraction) {
+      self->UpdateProgress(fraction);
+      return !self->GetAbortExecute();
+    };
+
+    // Few points, several threads: spread each point's walks over the
+    // threads in blocks, each block recorded and then replayed in walk order,
+    // so the numbers are bit for bit those of one thread. Blocks of the
+    // derivative estimator are its control blocks, whose control variates
+    // only use the walks before them in the same block.
+    const int blockWalks =
+      derivativeWalks ? gridfree::DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
+    const std::size_t blocksPerPoint =
+      static_cast<std::size_t>((walks + blockWalks - 1) / blockWalks);
+    const int threadCount = gridfree::ResolveThreadCount(self->NumberOfThreads);
+    // The layout depends on which sources are active: ask an estimator made
+    // like the workers' ones.
+    gridfree::SampleLayout layout;
+    if (derivativeWalks)
+    {
+      std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
+        sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
+      layout = gridfree::DerivativeWalkOnSpheres<DIM>(
+        geometry, settings, request, volume.get(), concentrated)
+                 .Layout();
+    }
+    const int sampleSize = derivativeWalks ? layout.Size : outputComponents;
+    const bool walkLevel = threadCount > 1 && numPoints < 2 * threadCount && blocksPerPoint > 1 &&
+      static_cast<double>(numPoints) * walks * sampleSize <= 16.0 * 1024 * 1024;
+    bool completed = false;
+    if (walkLevel)
+    {
+      const std::size_t items = static_cast<std::size_t>(numPoints) * blocksPerPoint;
+      std::vector<gridfree::SampleRecorder> recorders(items, gridfree::SampleRecorder(sampleSize));
+      std::vector<gridfree::WalkCounters> blockCounters(items);
+      std::vector<char> blockDone(items, 0);
+      std::vector<gridfree::DerivativeStatus> pointStatus(
+        static_cast<std::size_t>(numPoints), gridfree::DerivativeStatus::Interior);
+      completed = gridfree::ParallelForWithProgress(
+        items, self->NumberOfThreads,
+        [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
+          std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
+            sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
+          auto runBlocks = [&](auto& estimator) {
+            for (std::size_t item = begin;
+                 item < end && !cancel.load(std::memory_order_relaxed); ++item)
             {
-              laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
-              laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
+              const std::size_t i = item / blocksPerPoint;
+              const int first = static_cast<int>(item % blocksPerPoint) * blockWalks;
+              const int count = std::min(blockWalks, walks - first);
+              recorders[item].Reserve(static_cast<std::size_t>(count));
+              using Result = decltype(estimator.EstimatePoint(points[i].data(), seed,
+                std::uint64_t(0), count, recorders[item], blockCounters[item]));
+              if constexpr (std::is_void_v<Result>)
+              {
+                estimator.EstimatePoint(points[i].data(), seed, static_cast<std::uint64_t>(first),
+                  count, recorders[item], blockCounters[item]);
+              }
+              else
+              {
+                // The status is the same for every block of a point.
+                pointStatus[i] = estimator.EstimatePoint(points[i].data(), seed,
+                  static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
+              }
+              blockDone[item] = 1;
             }
+            if (!estimator.SourceSupportIsBounded())
+            {
+              std::lock_guard<std::mutex> lock(totalsMutex);
+              unboundedSource = true;
+            }
+          };
+          if (derivativeWalks)
+          {
+            gridfree::DerivativeWalkOnSpheres<DIM> estimator(
+              geometry, settings, request, volume.get(), concentrated);
+            runBlocks(estimator);
           }
-          steps->SetValue(i, counters.MeanSteps());
-          escaped->SetValue(i, counters.EscapedFraction());
-          truncated->SetValue(i, counters.TruncatedFraction());
-          sum.Add(counters);
-        };
+          else
+          {
+            gridfree::WalkOnSpheresEstimator<DIM> estimator(
+              geometry, settings, volume.get(), concentrated);
+            runBlocks(estimator);
+          }
+        },
+        reportProgress, 0.1, 1);
+      gridfree::RunningStatistics stats(sampleSize);
+      const int valueAt = derivativeWalks ? layout.Value : 0;
+      const int laplacianAt = derivativeWalks ? layout.Laplacian : nc;
+      for (vtkIdType i = 0; i < numPoints; ++i)
+      {
+        const std::size_t firstItem = static_cast<std::size_t>(i) * blocksPerPoint;
+        bool reached = true;
+        for (std::size_t b = 0; b < blocksPerPoint; ++b)
+        {
+          reached = reached && blockDone[firstItem + b];
+        }
+        if (!reached)
+        {
+          continue; // aborted: the point keeps its NaN
+        }
+        stats.Reset();
+        gridfree::WalkCounters counters;
+        for (std::size_t b = 0; b < blocksPerPoint; ++b)
+        {
+          recorders[firstItem + b].ReplayInto(stats);
+          counters.Add(blockCounters[firstItem + b]);
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
+          variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
+          if (biharmonic)
+          {
+            laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
+            laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
+          }
+        }
+        steps->SetValue(i, counters.MeanSteps());
+        escaped->SetValue(i, counters.EscapedFraction());
+        truncated->SetValue(i, counters.TruncatedFraction());
         if (derivativeWalks)
         {
-          gridfree::DerivativeWalkOnSpheres<DIM> estimator(
-            geometry, settings, request, volume.get(), concentrated);
-          const gridfree::SampleLayout& layout = estimator.Layout();
-          gridfree::RunningStatistics stats(layout.Size);
-          for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+          const int status = static_cast<int>(pointStatus[static_cast<std::size_t>(i)]);
+          statusCounts[status] += 1;
+          if (anyDerivative)
           {
-            stats.Reset();
-            gridfree::WalkCounters counters;
-            const auto status =
-              estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
-            counts[static_cast<int>(status)] += 1;
-            store(i, stats, layout.Value, layout.Laplacian, counters);
-            if (anyDerivative)
+            derivatives.Store<DIM>(i, stats, layout, nc, status);
+          }
+        }
+        totals.Add(counters);
+      }
+    }
+    else
+    {
+      completed = gridfree::ParallelForWithProgress(
+        static_cast<std::size_t>(numPoints), self->NumberOfThreads,
+        [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
+          std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
+            sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
+          gridfree::WalkCounters sum;
+          std::array<vtkIdType, 3> counts = { 0, 0, 0 };
+          bool bounded = true;
+          // Copies one point's statistics to the output arrays.
+          auto store = [&](std::size_t i, const gridfree::RunningStatistics& stats, int valueAt,
+                         int laplacianAt, const gridfree::WalkCounters& counters) {
+            for (int c = 0; c < nc; ++c)
             {
-              derivatives.Store<DIM>(i, stats, layout, nc, static_cast<int>(status));
+              mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
+              variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
+              if (biharmonic)
+              {
+                laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
+                laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
+              }
             }
-          }
-          bounded = estimator.SourceSupportIsBounded();
-        }
-        else
-        {
-          gridfree::WalkOnSpheresEstimator<DIM> estimator(
-            geometry, settings, volume.get(), concentrated);
-          gridfree::RunningStatistics stats(outputComponents);
-          for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+            steps->SetValue(i, counters.MeanSteps());
+            escaped->SetValue(i, counters.EscapedFraction());
+            truncated->SetValue(i, counters.TruncatedFraction());
+            sum.Add(counters);
+          };
+          if (derivativeWalks)
           {
-            stats.Reset();
-            gridfree::WalkCounters counters;
-            estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
-            store(i, stats, 0, nc, counters);
+            gridfree::DerivativeWalkOnSpheres<DIM> estimator(
+              geometry, settings, request, volume.get(), concentrated);
+            const gridfree::SampleLayout& layout = estimator.Layout();
+            gridfree::RunningStatistics stats(layout.Size);
+            for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+            {
+              stats.Reset();
+              gridfree::WalkCounters counters;
+              const auto status =
+                estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+              counts[static_cast<int>(status)] += 1;
+              store(i, stats, layout.Value, layout.Laplacian, counters);
+              if (anyDerivative)
+              {
+                derivatives.Store<DIM>(i, stats, layout, nc, static_cast<int>(status));
+              }
+            }
+            bounded = estimator.SourceSupportIsBounded();
           }
-          bounded = estimator.SourceSupportIsBounded();
-        }
-        std::lock_guard<std::mutex> lock(totalsMutex);
-        totals.Add(sum);
-        for (int k = 0; k < 3; ++k)
-        {
-          statusCounts[k] += counts[k];
-        }
-        unboundedSource = unboundedSource || !bounded;
-      },
-      [self](double fraction) {
-        self->UpdateProgress(fraction);
-        return !self->GetAbortExecute();
-      });
+          else
+          {
+            gridfree::WalkOnSpheresEstimator<DIM> estimator(
+              geometry, settings, volume.get(), concentrated);
+            gridfree::RunningStatistics stats(outputComponents);
+            for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+            {
+              stats.Reset();
+              gridfree::WalkCounters counters;
+              estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+              store(i, stats, 0, nc, counters);
+            }
+            bounded = estimator.SourceSupportIsBounded();
+          }
+          std::lock_guard<std::mutex> lock(totalsMutex);
+          totals.Add(sum);
+          for (int k = 0; k < 3; ++k)
+          {
+            statusCounts[k] += counts[k];
+          }
+          unboundedSource = unboundedSource || !bounded;
+        },
+        reportProgress);
+    }
     const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -171,18 +171,31 @@ public:
     this->SourceControl.resize(components);
     this->ValueWalk.resize(2 * components);
     this->Pilot.resize(components);
+    this->History = RunningStatistics(l.Size);
   }
 
   const SampleLayout& Layout() const { return this->Slots; }
   bool SourceSupportIsBounded() const { return this->Walker.SourceSupportIsBounded(); }
   int SolutionComponents() const { return this->Nc; }
 
+  // The control variates of a walk use the running means of the walks
+  // before it in its block of kControlBlock walks (walks 0–255, 256–511, …),
+  // not of all earlier walks: blocks are then independent, so the walks of
+  // one point can run on several threads, block by block, and give the same
+  // numbers as one thread. The first walk of each block falls back to the
+  // pilot value and the others estimate the control coefficients from fewer
+  // walks (at most 255), a small cost in variance for long runs only.
+  static constexpr int kControlBlock = 256;
+
   // Runs walks firstWalk .. firstWalk + walks − 1 from the probe point (the
   // random streams are keyed as in WalkOnSpheresEstimator::EstimatePoint) and
-  // adds their samples to stats, which must have Layout().Size components
-  // and hold exactly the walks before firstWalk of this point.
+  // adds their samples to stats (Layout().Size components): a
+  // RunningStatistics, or a SampleRecorder to replay later. A call that
+  // starts inside a block (firstWalk not a multiple of kControlBlock) starts
+  // that block's control history afresh.
+  template <class Statistics>
   DerivativeStatus EstimatePoint(const double probeXYZ[3], std::uint64_t seed,
-    std::uint64_t firstWalk, int walks, RunningStatistics& stats, WalkCounters& counters)
+    std::uint64_t firstWalk, int walks, Statistics& stats, WalkCounters& counters)
   {
     Vec<DIM> x0;
     if (!ProbeStartPoint<DIM>(probeXYZ, x0))
@@ -251,10 +264,10 @@ private:
     return DerivativeStatus::Unavailable;
   }
 
-  template <class Green>
+  template <class Green, class Statistics>
   void Run(const Vec<DIM>& x0, const Vec<DIM>& centre, DerivativeStatus status,
     const Green& green, const BallHessianKernels<DIM>& kernels, double escapeRadius,
-    std::uint64_t key, std::uint64_t firstWalk, int walks, RunningStatistics& stats,
+    std::uint64_t key, std::uint64_t firstWalk, int walks, Statistics& stats,
     WalkCounters& counters)
   {
     const SampleLayout& l = this->Slots;
@@ -285,10 +298,16 @@ private:
       this->Geometry.Evaluate(this->Geometry.ClosestPoint(centre), this->Pilot.data());
     }
 
+    RunningStatistics& history = this->History;
     for (int w = 0; w < walks; ++w)
     {
-      RandomStream rng(key, firstWalk + static_cast<std::uint64_t>(w));
-      const bool haveHistory = stats.SampleCount() > 0;
+      const std::uint64_t index = firstWalk + static_cast<std::uint64_t>(w);
+      if (w == 0 || index % kControlBlock == 0)
+      {
+        history.Reset();
+      }
+      RandomStream rng(key, index);
+      const bool haveHistory = history.SampleCount() > 0;
       const bool useControls = controls && haveHistory;
       std::fill(this->Sample.begin(), this->Sample.end(), 0.0);
       int totalSteps = 0;
@@ -330,7 +349,7 @@ private:
           {
             for (int c = 0; c < nc; ++c)
             {
-              this->SourceControl[c] = stats.GetMean(l.SourceMean + c);
+              this->SourceControl[c] = history.GetMean(l.SourceMean + c);
             }
             fBar = this->SourceControl.data();
           }
@@ -359,10 +378,10 @@ private:
           Vec<DIM> bBar = Vec<DIM>::Zero();
           if (useControls)
           {
-            mBar = stats.GetMean(l.TailMean + c);
+            mBar = history.GetMean(l.TailMean + c);
             for (int i = 0; i < DIM; ++i)
             {
-              bBar[i] = (n / kappa) * stats.GetMean(l.Gradient + c * DIM + i);
+              bBar[i] = (n / kappa) * history.GetMean(l.Gradient + c * DIM + i);
             }
           }
           const double linear = bBar.dot(nu);
@@ -430,6 +449,7 @@ private:
         }
       }
 
+      history.Add(this->Sample.data());
       stats.Add(this->Sample.data());
       counters.Walks += 1;
       counters.Steps += static_cast<std::uint64_t>(totalSteps);
@@ -470,6 +490,8 @@ private:
   std::vector<double> SourceControl;
   std::vector<double> ValueWalk;
   std::vector<double> Pilot;
+  // Running means of the walks before, in the current control block.
+  RunningStatistics History;
 };
 } // namespace gridfree
 

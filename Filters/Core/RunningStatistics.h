@@ -65,6 +65,41 @@ private:
   std::vector<double> Mean;
   std::vector<double> M2;
 };
+
+// Keeps samples in the order they are added, to be added to a
+// RunningStatistics later. Walks of one point can then run on several
+// threads, each block of walks into its own recorder, and be replayed in walk
+// order: the result is bit for bit what one thread adding them in order
+// gives, whatever the number of threads (Welford's update is not
+// associative, so merging partial statistics would not be).
+class SampleRecorder
+{
+public:
+  explicit SampleRecorder(int components = 1)
+    : NumberOfComponents(components)
+  {
+  }
+
+  void Clear() { this->Values.clear(); }
+  void Reserve(std::size_t samples) { this->Values.reserve(samples * this->NumberOfComponents); }
+  void Add(const double* sample)
+  {
+    this->Values.insert(this->Values.end(), sample, sample + this->NumberOfComponents);
+  }
+  std::size_t SampleCount() const { return this->Values.size() / this->NumberOfComponents; }
+
+  void ReplayInto(RunningStatistics& stats) const
+  {
+    for (std::size_t i = 0; i < this->Values.size(); i += this->NumberOfComponents)
+    {
+      stats.Add(this->Values.data() + i);
+    }
+  }
+
+private:
+  std::size_t NumberOfComponents;
+  std::vector<double> Values;
+};
 } // namespace gridfree
 
 #endif

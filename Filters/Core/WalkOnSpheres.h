@@ -151,8 +151,9 @@ bool ProbeStartPoint(const double probeXYZ[3], Vec<DIM>& x0)
 }
 
 // A non-finite probe point: `walks` NaN samples, so every output is NaN.
-inline void AddNaNSamples(
-  std::vector<double>& sample, int walks, RunningStatistics& stats, WalkCounters& counters)
+template <class Statistics>
+void AddNaNSamples(
+  std::vector<double>& sample, int walks, Statistics& stats, WalkCounters& counters)
 {
   std::fill(sample.begin(), sample.end(), std::numeric_limits<double>::quiet_NaN());
   for (int w = 0; w < walks; ++w)
@@ -234,8 +235,11 @@ public:
   // probeXYZ (its first DIM coordinates are the start point; all three key
   // the random streams) and accumulates them into stats (OutputComponents()
   // components) and counters. Non-finite start points yield NaN samples.
+  // `stats` is a RunningStatistics, or a SampleRecorder for walks of one
+  // point split over threads.
+  template <class Statistics>
   void EstimatePoint(const double probeXYZ[3], std::uint64_t seed, std::uint64_t firstWalk,
-    int walks, RunningStatistics& stats, WalkCounters& counters)
+    int walks, Statistics& stats, WalkCounters& counters)
   {
     Vec<DIM> x0;
     if (!ProbeStartPoint<DIM>(probeXYZ, x0))

@@ -427,9 +427,10 @@ TEST(DerivativeWalkOnSpheres, PointsOnAndNearTheBoundaryAreOneSided)
   }
 }
 
-// Walks split into two calls, or spread over a different number of threads,
-// give bit-identical means: control variates only look at earlier walks of
-// the same point, and the statistics carry the running means they need.
+// Walks split into calls at control-block boundaries, run in any order into
+// recorders and replayed in walk order, or spread over a different number of
+// threads, give bit-identical means: control variates only look at earlier
+// walks of the same block (kControlBlock walks) of the same point.
 TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
 {
   const Solution<2> s = Smooth<2>();
@@ -439,9 +440,11 @@ TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
   request.Gradient = request.Hessian = true;
   const WalkSettings settings = Settings<2>(Equation::Poisson);
   const auto points = RandomPointsInBall<2>(40, 0.8, 99);
-  const auto one = RunDerivativeEstimator<2>(boundary, settings, request, points, 64, 1, &f,
+  constexpr int block = DerivativeWalkOnSpheres<2>::kControlBlock;
+  const int walks = 2 * block + 10; // a short last block
+  const auto one = RunDerivativeEstimator<2>(boundary, settings, request, points, walks, 1, &f,
     ConcentratedSourceSet<2>(), 1);
-  const auto two = RunDerivativeEstimator<2>(boundary, settings, request, points, 64, 1, &f,
+  const auto two = RunDerivativeEstimator<2>(boundary, settings, request, points, walks, 1, &f,
     ConcentratedSourceSet<2>(), 2);
   EXPECT_EQ(one.Mean, two.Mean);
   EXPECT_EQ(one.Variance, two.Variance);
@@ -451,13 +454,30 @@ TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     const double xyz[3] = { points[i][0], points[i][1], 0.0 };
+    // Two calls split at a block boundary.
     RunningStatistics stats(size);
     WalkCounters counters;
-    estimator.EstimatePoint(xyz, 1, 0, 24, stats, counters);
-    estimator.EstimatePoint(xyz, 1, 24, 40, stats, counters);
+    estimator.EstimatePoint(xyz, 1, 0, block, stats, counters);
+    estimator.EstimatePoint(xyz, 1, block, walks - block, stats, counters);
+    // The three blocks run last to first into recorders, replayed in order.
+    SampleRecorder recorders[3] = { SampleRecorder(size), SampleRecorder(size),
+      SampleRecorder(size) };
+    for (int b = 2; b >= 0; --b)
+    {
+      estimator.EstimatePoint(
+        xyz, 1, b * block, std::min(block, walks - b * block), recorders[b], counters);
+    }
+    RunningStatistics replayed(size);
+    for (const SampleRecorder& r : recorders)
+    {
+      r.ReplayInto(replayed);
+    }
+    ASSERT_EQ(replayed.SampleCount(), static_cast<std::size_t>(walks));
     for (int c = 0; c < size; ++c)
     {
       EXPECT_EQ(stats.GetMean(c), one.Mean[i * size + c]);
+      EXPECT_EQ(replayed.GetMean(c), one.Mean[i * size + c]);
+      EXPECT_EQ(replayed.VarianceOfMean(c), stats.VarianceOfMean(c));
     }
   }
 }
