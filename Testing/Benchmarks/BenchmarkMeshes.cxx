@@ -215,13 +215,33 @@ TriangleMesh ReadPolyDataTriangles(const std::string& path)
   return mesh;
 }
 
+double MeanEdgeLength(const TriangleMesh& mesh)
+{
+  double sum = 0.0;
+  for (const auto& t : mesh.Simplices)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      sum += (mesh.Vertices[t[k]] - mesh.Vertices[t[(k + 1) % 3]]).norm();
+    }
+  }
+  return mesh.Simplices.empty() ? 0.0 : sum / (3.0 * double(mesh.Simplices.size()));
+}
+
 std::vector<Vec3> MakeQueries(
   const TriangleMesh& mesh, bool nearSurface, std::size_t count, unsigned seed)
 {
+  return nearSurface ? MakeQueriesNear(mesh, 0.01 * BoundsOf(mesh).Diagonal(), count, seed)
+                     : MakeQueriesNear(mesh, -1.0, count, seed);
+}
+
+std::vector<Vec3> MakeQueriesNear(
+  const TriangleMesh& mesh, double offset, std::size_t count, unsigned seed)
+{
+  const bool nearSurface = offset >= 0.0;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Box box = BoundsOf(mesh);
-  const double offset = 0.01 * box.Diagonal();
   std::vector<Vec3> queries(count);
   for (Vec3& q : queries)
   {

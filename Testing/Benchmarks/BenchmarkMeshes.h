@@ -66,6 +66,14 @@ TriangleMesh ReadPolyDataTriangles(const std::string& path);
 std::vector<Vec3> MakeQueries(
   const TriangleMesh& mesh, bool nearSurface, std::size_t count, unsigned seed);
 
+// Near-surface queries moved by up to `offset` (uniform in a box when
+// offset < 0); MakeQueries uses 1% of the box diagonal.
+std::vector<Vec3> MakeQueriesNear(
+  const TriangleMesh& mesh, double offset, std::size_t count, unsigned seed);
+
+// Mean edge length of the triangles: the mesh's own length scale.
+double MeanEdgeLength(const TriangleMesh& mesh);
+
 // Points uniform in the mesh's box that lie inside the closed surface scaled
 // by `shrink` about the box center; at most `count`, from at most
 // 200·count candidates.
