@@ -697,6 +697,159 @@ TEST(Bvh, ClosedSurface)
   CheckQuery(bvh, soup, Vec3(0, 0, 0), 2.0); // equidistant from everything
 }
 
+// Adversarial: every primitive at exactly the same distance from the query.
+// A fan of triangles (segments in 2D) around one apex vertex, the query on
+// the axis above the apex, is closest to every one of them at that shared
+// vertex: the distances are bit-identical, so nothing can be pruned by a
+// strictly better candidate and any box bound that is not a true lower bound
+// would lose the tie. Also a sphere of tiny primitives, each touching the
+// sphere of radius 1 around the query at a vertex on an axis-aligned grid
+// of directions, where the kernel's rounding is the same for all.
+TEST(Bvh, AllPrimitivesEquidistant)
+{
+  {
+    Soup<3> fan;
+    fan.Vertices.push_back(Vec3(0.25, -0.5, 1.0)); // the apex
+    const int n = 4000;
+    for (int i = 0; i < n; ++i)
+    {
+      const double a = 2.0 * M_PI * i / n;
+      const double b = 2.0 * M_PI * (i + 1) / n;
+      // The rim sinks below the apex plane so the apex stays closest.
+      fan.Vertices.push_back(fan.Vertices[0] + Vec3(std::cos(a), std::sin(a), -0.5));
+      fan.Vertices.push_back(fan.Vertices[0] + Vec3(std::cos(b), std::sin(b), -0.5));
+      fan.Primitives.push_back({ 0, 2 * i + 1, 2 * i + 2 });
+    }
+    Bvh<3> bvh;
+    bvh.Build(fan.Vertices, fan.Primitives);
+    ASSERT_TRUE(bvh.Validate());
+    for (const double h : { 1e-9, 0.01, 0.3, 7.0 })
+    {
+      const Vec3 q = fan.Vertices[0] + Vec3(0, 0, h);
+      const double ref2 = BruteForceSquaredDistance(fan, q);
+      EXPECT_EQ(bvh.SquaredDistance(q), ref2) << "height " << h;
+      const auto r = bvh.ClosestPoint(q);
+      EXPECT_EQ(r.point, fan.Vertices[0]) << "height " << h;
+      CheckQuery(bvh, fan, q, 2.0);
+    }
+  }
+  {
+    Soup<2> fan;
+    fan.Vertices.push_back(Vec2(-3.0, 2.0));
+    const int n = 4000;
+    for (int i = 0; i < n; ++i)
+    {
+      // Segments leaving the apex downwards, in the lower half-plane only.
+      const double a = M_PI * (1.0 + (i + 0.5) / n);
+      fan.Vertices.push_back(fan.Vertices[0] + Vec2(std::cos(a), std::sin(a)));
+      fan.Primitives.push_back({ 0, i + 1 });
+    }
+    Bvh<2> bvh;
+    bvh.Build(fan.Vertices, fan.Primitives);
+    ASSERT_TRUE(bvh.Validate());
+    for (const double h : { 1e-9, 0.5, 4.0 })
+    {
+      const Vec2 q = fan.Vertices[0] + Vec2(0, h);
+      EXPECT_EQ(bvh.SquaredDistance(q), BruteForceSquaredDistance(fan, q)) << "height " << h;
+      CheckQuery(bvh, fan, q, 2.0);
+    }
+  }
+  {
+    // Tiny triangles with one vertex exactly at distance 1 from q along the
+    // ±x, ±y, ±z directions and the 12 (±1, ±1, 0)-type diagonals scaled by
+    // powers of two (exact), the rest of the triangle farther out.
+    const Vec3 q(0.5, 0.25, -0.125);
+    Soup<3> shell;
+    std::vector<Vec3> dirs;
+    for (int k = 0; k < 3; ++k)
+    {
+      for (const double sgn : { -1.0, 1.0 })
+      {
+        dirs.push_back(sgn * Vec3::Unit(k));
+      }
+    }
+    for (const Vec3& d : dirs)
+    {
+      for (int copy = 0; copy < 200; ++copy)
+      {
+        const Vec3 apex = q + d;
+        // Two tangent vectors, and an outward tilt so the apex is closest.
+        const Vec3 t1 = Vec3::Unit((d.cwiseAbs().maxCoeff() == std::abs(d[0])) ? 1 : 0);
+        const Vec3 t2 = d.cross(t1);
+        const double s = 1e-3 * (1 + copy % 7);
+        const auto base = static_cast<std::int64_t>(shell.Vertices.size());
+        shell.Vertices.push_back(apex);
+        shell.Vertices.push_back(apex + s * (t1 + d));
+        shell.Vertices.push_back(apex + s * (t2 + d));
+        shell.Primitives.push_back({ base, base + 1, base + 2 });
+      }
+    }
+    Bvh<3> bvh;
+    bvh.Build(shell.Vertices, shell.Primitives);
+    ASSERT_TRUE(bvh.Validate());
+    EXPECT_EQ(bvh.SquaredDistance(q), 1.0);
+    EXPECT_EQ(BruteForceSquaredDistance(shell, q), 1.0);
+    CheckQuery(bvh, shell, q, 2.0);
+  }
+}
+
+// Adversarial: coplanar, overlapping and duplicated triangles (a polygon soup
+// of layered patches, as from concatenated meshes), queried on the plane,
+// just off it and far from it; and collinear overlapping segments in 2D.
+TEST(Bvh, CoplanarOverlappingPrimitives)
+{
+  std::mt19937_64 rng(404);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  {
+    Soup<3> soup;
+    for (int i = 0; i < 3000; ++i)
+    {
+      const auto base = static_cast<std::int64_t>(soup.Vertices.size());
+      const Vec3 c(u(rng), u(rng), 0.0);
+      const double s = 0.05 + 0.3 * std::abs(u(rng));
+      for (int k = 0; k < 3; ++k)
+      {
+        soup.Vertices.push_back(c + s * Vec3(u(rng), u(rng), 0.0));
+      }
+      soup.Primitives.push_back({ base, base + 1, base + 2 });
+      if (i % 5 == 0) // an exact duplicate, in another vertex order
+      {
+        soup.Primitives.push_back({ base + 2, base, base + 1 });
+      }
+    }
+    Bvh<3> bvh;
+    bvh.Build(soup.Vertices, soup.Primitives);
+    ASSERT_TRUE(bvh.Validate());
+    for (int i = 0; i < 200; ++i)
+    {
+      const double z = (i % 4 == 0) ? 0.0 : (i % 4 == 1 ? 1e-12 : (i % 4 == 2 ? -0.01 : 3.0));
+      CheckQuery(bvh, soup, Vec3(1.3 * u(rng), 1.3 * u(rng), z), 3.0);
+      ASSERT_FALSE(HasFatalFailure());
+    }
+  }
+  {
+    Soup<2> soup;
+    for (int i = 0; i < 2000; ++i)
+    {
+      const auto base = static_cast<std::int64_t>(soup.Vertices.size());
+      const double a = u(rng), b = a + 0.2 * std::abs(u(rng));
+      soup.Vertices.push_back(Vec2(a, 0.5 * a)); // all on the line y = x / 2
+      soup.Vertices.push_back(Vec2(b, 0.5 * b));
+      soup.Primitives.push_back({ base, base + 1 });
+    }
+    Bvh<2> bvh;
+    bvh.Build(soup.Vertices, soup.Primitives);
+    ASSERT_TRUE(bvh.Validate());
+    for (int i = 0; i < 200; ++i)
+    {
+      const double x = 1.5 * u(rng);
+      const double off = (i % 3 == 0) ? 0.0 : 0.1 * u(rng);
+      CheckQuery(bvh, soup, Vec2(x, 0.5 * x + off), 3.0);
+      ASSERT_FALSE(HasFatalFailure());
+    }
+  }
+}
+
 // The relaxed lower bound of walk steps: never above the exact distance, never
 // below 1 / (1 + relaxation) of it, and equal to it when flagged exact. (A
 // distance below `exactBelow` need not be exact: boxes skipped while the

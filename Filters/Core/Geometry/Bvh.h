@@ -58,7 +58,10 @@
 #include <utility>
 #include <vector>
 
-#if defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
+// GRIDFREE_BVH_SCALAR selects the portable scalar box tests even where SSE2
+// exists: the tests build the hierarchy both ways, each against brute force.
+#if !defined(GRIDFREE_BVH_SCALAR) &&                                                          \
+  (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #include <emmintrin.h>
 #define GRIDFREE_BVH_USE_SSE 1
 #endif

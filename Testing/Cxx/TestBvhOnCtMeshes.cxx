@@ -1,0 +1,145 @@
+// The BVH on the CT-derived meshes this project is made for, against brute
+// force: the bundled closed skin surface, and a raw bone isosurface of the
+// bundled CT volume turned into a triangle soup (every triangle with its own
+// three vertices, as raw marching-cubes output often is). Queries uniform in
+// the box, near the surface (down to exactly on a vertex) and far away.
+#include "Geometry/Bvh.h"
+#include "Geometry/ClosestPointPrimitives.h"
+
+#include "vtkCellArray.h"
+#include "vtkFlyingEdges3D.h"
+#include "vtkIdList.h"
+#include "vtkImageData.h"
+#include "vtkMetaImageReader.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkXMLPolyDataReader.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace
+{
+using gridfree::Bvh;
+using gridfree::Vec3;
+
+struct Triangles
+{
+  std::vector<Vec3> Vertices;
+  std::vector<Bvh<3>::Primitive> Faces;
+};
+
+// The polygons of a surface as triangles (fans), optionally as a soup.
+Triangles FromPolyData(vtkPolyData* poly, bool soup)
+{
+  Triangles t;
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    poly->GetPoint(i, p);
+    t.Vertices.emplace_back(p[0], p[1], p[2]);
+  }
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* polys = poly->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+  {
+    for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k)
+    {
+      t.Faces.push_back({ ids->GetId(0), ids->GetId(k), ids->GetId(k + 1) });
+    }
+  }
+  if (soup)
+  {
+    Triangles s;
+    for (const auto& f : t.Faces)
+    {
+      const auto base = static_cast<std::int64_t>(s.Vertices.size());
+      for (int k = 0; k < 3; ++k)
+      {
+        s.Vertices.push_back(t.Vertices[f[k]]);
+      }
+      s.Faces.push_back({ base, base + 1, base + 2 });
+    }
+    return s;
+  }
+  return t;
+}
+
+double BruteForce(const Triangles& t, const Vec3& x)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& f : t.Faces)
+  {
+    best = std::min(best,
+      gridfree::SquaredDistanceToTriangle(x, t.Vertices[f[0]], t.Vertices[f[1]], t.Vertices[f[2]]));
+  }
+  return best;
+}
+
+void CheckAgainstBruteForce(const Triangles& t, int perKind, unsigned seed)
+{
+  ASSERT_GT(t.Faces.size(), 10000u);
+  Bvh<3> bvh;
+  bvh.Build(t.Vertices, t.Faces);
+  ASSERT_TRUE(bvh.Validate());
+  const auto& box = bvh.Bounds();
+  const double diagonal = box.Diagonal();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> gauss;
+  auto direction = [&]() { return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized(); };
+  std::vector<Vec3> queries;
+  for (int i = 0; i < perKind; ++i)
+  {
+    queries.push_back(box.Min + (box.Max - box.Min).cwiseProduct(Vec3(u(rng), u(rng), u(rng))));
+    const auto& f = t.Faces[rng() % t.Faces.size()];
+    const Vec3 onSurface = (i % 3 == 0) ? t.Vertices[f[0]]
+                                         : (t.Vertices[f[0]] + t.Vertices[f[1]] + t.Vertices[f[2]]) / 3.0;
+    const double offset = (i % 3 == 0) ? 0.0 : diagonal * std::pow(10.0, -9.0 + 7.0 * u(rng));
+    queries.push_back(onSurface + offset * direction());
+    queries.push_back(box.Center() + diagonal * (1.0 + 10.0 * u(rng)) * direction());
+  }
+  for (const Vec3& x : queries)
+  {
+    const double ref2 = BruteForce(t, x);
+    const double d2 = bvh.SquaredDistance(x);
+    // The same kernels: equal up to their last-bit rounding.
+    ASSERT_NEAR(std::sqrt(d2), std::sqrt(ref2), 1e-12 * std::sqrt(ref2) + 1e-14 * diagonal)
+      << "query " << x.transpose();
+    const auto r = bvh.ClosestPoint(x);
+    ASSERT_GE(r.primitive, 0);
+    const auto& f = t.Faces[static_cast<std::size_t>(r.primitive)];
+    const double own =
+      gridfree::SquaredDistanceToTriangle(x, t.Vertices[f[0]], t.Vertices[f[1]], t.Vertices[f[2]]);
+    EXPECT_NEAR(std::sqrt(own), std::sqrt(ref2), 1e-12 * std::sqrt(ref2) + 1e-14 * diagonal);
+  }
+}
+} // namespace
+
+TEST(BvhOnCtMeshes, ClosedSkinSurface)
+{
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_skin_iso500_closed.vtp");
+  reader->Update();
+  ASSERT_GT(reader->GetOutput()->GetNumberOfPolys(), 0) << "cannot read the skin surface";
+  CheckAgainstBruteForce(FromPolyData(reader->GetOutput(), false), 60, 1);
+}
+
+TEST(BvhOnCtMeshes, RawBoneIsosurfaceSoup)
+{
+  vtkNew<vtkMetaImageReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_headCT.mhd");
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputConnection(reader->GetOutputPort());
+  contour->SetValue(0, 1150.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  CheckAgainstBruteForce(FromPolyData(contour->GetOutput(), true), 60, 2);
+}
