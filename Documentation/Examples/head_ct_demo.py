@@ -122,10 +122,16 @@ def main():
                                view.CameraPosition[2]]
         view.CameraFocalPoint = [center[0] + 0.12 * (xmax - xmin), center[1], zmid]
 
-    SaveScreenshot(os.path.join(args.output, "head_slice.png"), layout,
-                   ImageResolution=[1280, 600])
-    print(f"wrote {os.path.join(args.output, 'head_slice.vtp')} and "
-          f"{os.path.join(args.output, 'head_slice.png')}")
+    picture = os.path.join(args.output, "head_slice.png")
+    # An X server that is slow to come up under load can lose the first
+    # render: try again once, and fail loudly rather than leave no picture.
+    for _ in range(2):
+        if SaveScreenshot(picture, layout, ImageResolution=[1280, 600]) and \
+                os.path.isfile(picture) and os.path.getsize(picture) > 0:
+            break
+    else:
+        sys.exit(f"could not write {picture}")
+    print(f"wrote {os.path.join(args.output, 'head_slice.vtp')} and {picture}")
 
 
 if __name__ == "__main__":
