@@ -19,11 +19,54 @@
 
 namespace gridfree
 {
+namespace
+{
+// The first cell (in vtkPolyData's cell numbering) that refers to a point id
+// outside [0, points): such a file would make every later step read beyond
+// the point array. Returns false and a reason naming the cell.
+bool AllPointIdsValid(vtkPolyData* boundary, std::string& reason)
+{
+  const vtkIdType points = boundary->GetNumberOfPoints();
+  vtkIdType cellId = 0;
+  for (vtkCellArray* cells :
+    { boundary->GetVerts(), boundary->GetLines(), boundary->GetPolys(), boundary->GetStrips() })
+  {
+    if (!cells)
+    {
+      continue;
+    }
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      for (vtkIdType k = 0; k < n; ++k)
+      {
+        if (ids[k] < 0 || ids[k] >= points)
+        {
+          reason = "cell " + std::to_string(cellId) + " refers to point " +
+            std::to_string(ids[k]) + ", but the boundary has " + std::to_string(points) +
+            " points";
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+} // namespace
+
 int DetectBoundaryDimension(vtkPolyData* boundary, std::string& reason)
 {
   if (!boundary || boundary->GetNumberOfPoints() == 0 || boundary->GetNumberOfCells() == 0)
   {
     reason = "the boundary is empty (no points or no cells)";
+    return 0;
+  }
+  // Before anything reads points through cells (GetBounds does).
+  if (!AllPointIdsValid(boundary, reason))
+  {
     return 0;
   }
   if (boundary->GetNumberOfPolys() > 0 || boundary->GetNumberOfStrips() > 0)
@@ -302,12 +345,17 @@ std::string DegenerateNote(long long degenerate)
 
 const char* const BezierControlPointsArrayName = "BezierControlPoints";
 
+
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
   std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction)
 {
   using Primitive = typename Boundary<DIM>::Primitive;
+  if (!AllPointIdsValid(boundary, reason))
+  {
+    return false;
+  }
   std::vector<Primitive> primitives;
   std::vector<vtkIdType> sourceCell; // the input cell each primitive came from
   std::vector<Vec<DIM>> vertices = ConvertPoints<DIM>(boundary->GetPoints());

@@ -191,6 +191,16 @@ public:
       return;
     }
     const int nc = this->NumberOfComponents;
+    if (hit.primitive < 0)
+    {
+      // No closest primitive (a NaN query, e.g. a walk whose distances
+      // overflowed): no value, rather than reading before the table.
+      for (int c = 0; c < nc; ++c)
+      {
+        out[c] = std::numeric_limits<double>::quiet_NaN();
+      }
+      return;
+    }
     if (this->Association == ValueAssociation::Cells)
     {
       const double* v = &this->Values[static_cast<std::size_t>(hit.primitive) * nc];

@@ -210,6 +210,12 @@ TEST(WalkOnSpheresSolverFilter, BadInputIsAnErrorNotACrash)
   expectError(nan, "T", "NaN");
   auto noScalars = MakeSphereBoundary();
   expectError(noScalars, nullptr, "No boundary values");
+  // A cell that refers to a point the boundary does not have (a corrupt
+  // file): an error naming the cell, never a read beyond the points.
+  auto missing = MakeSphereBoundary();
+  const vtkIdType cell[3] = { 0, 1, missing->GetNumberOfPoints() + 7 };
+  missing->GetPolys()->InsertNextCell(3, cell);
+  expectError(missing, "T", "refers to point");
 }
 
 // Gradient and Hessian of g = x² − y² (∇u = (2x, −2y, 0), ∇²u = diag(2, −2, 0))

@@ -698,7 +698,10 @@ private:
       float sum = 0.0f;
       for (int k = 0; k < DIM; ++k)
       {
-        const float gap = std::max(std::max(lo[k][c] - xhi[k], xlo[k] - hi[k][c]), 0.0f);
+        // Same NaN rule as maxps (the second operand): a NaN box bound (from
+        // coordinates beyond the float range) gives a gap of 0, never a prune.
+        auto maxps = [](float a, float b) { return a > b ? a : b; };
+        const float gap = maxps(maxps(lo[k][c] - xhi[k], xlo[k] - hi[k][c]), 0.0f);
         sum += gap * gap;
       }
       dist2[c] = sum;
@@ -1013,7 +1016,11 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
   }
   auto binOf = [&](const BuildRecord& p, int axis)
   {
-    return std::min(kBins - 1, static_cast<int>((p.Center(axis) - cLo[axis]) * scale[axis]));
+    // Centres beyond the float range are infinite or NaN, and so may be the
+    // product (inf * 0): those go to the last bin (converting NaN to int is
+    // undefined, and gave an index far outside the bins).
+    const float b = (p.Center(axis) - cLo[axis]) * scale[axis];
+    return b < static_cast<float>(kBins - 1) ? (b > 0.0f ? static_cast<int>(b) : 0) : kBins - 1;
   };
   for (const BuildRecord* p = first; p != last; ++p)
   {
@@ -1142,10 +1149,14 @@ std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level)
     double pickArea = -1.0;
     for (int i = 0; i < count; ++i)
     {
-      if (!kids[i].Leaf && kids[i].Box.HalfArea() > pickArea)
+      // The first inner child is always taken: a NaN area (inf * 0 for a flat
+      // box beyond the float range) must not leave it unsplit, which recursed
+      // on the same range forever.
+      const double area = kids[i].Box.HalfArea();
+      if (!kids[i].Leaf && (pick < 0 || area > pickArea))
       {
         pick = i;
-        pickArea = kids[i].Box.HalfArea();
+        pickArea = area;
       }
     }
     if (pick < 0 || count == kWidth)
@@ -1228,12 +1239,17 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
       }
       const double clo = lower(kids[i].Box.Min[k] - this->Center[k]);
       const double chi = upper(kids[i].Box.Max[k] - this->Center[k]);
-      int ql = static_cast<int>(std::min(std::max(std::floor((clo - o) / sc), 0.0), 255.0));
+      // Beyond the float range (|coordinates| > ~3e38) bounds and origin may
+      // be infinite and the quotients NaN: take the outermost code then
+      // (converting NaN to int is undefined).
+      const double fl = std::floor((clo - o) / sc);
+      int ql = fl > 0.0 ? static_cast<int>(std::min(fl, 255.0)) : 0;
       while (ql > 0 && o + ql * sc + margin(ql * sc) > clo)
       {
         --ql;
       }
-      int qh = static_cast<int>(std::min(std::max(std::ceil((chi - o) / sc), 0.0), 255.0));
+      const double ch = std::ceil((chi - o) / sc);
+      int qh = ch < 255.0 ? static_cast<int>(std::max(ch, 0.0)) : 255;
       while (qh < 255 && o + qh * sc - margin(qh * sc) < chi)
       {
         ++qh;
@@ -1299,6 +1315,12 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
           if (d2 < best2)
           {
             best2 = d2;
+            best = i;
+          }
+          else if (best < 0)
+          {
+            // Beyond ~1e154 squared distances overflow to inf (or NaN): keep
+            // the first primitive then, so that a query always gets one.
             best = i;
           }
         }
