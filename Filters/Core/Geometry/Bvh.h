@@ -711,6 +711,51 @@ private:
 #endif
   }
 
+  /// A child to visit and its sort key: a lower bound of its squared
+  /// distance (closest points) or of its entry parameter (rays).
+  struct Entry
+  {
+    std::uint32_t Ref;
+    float Key;
+  };
+
+  /// Both traversals: the children in `mask` (empty slots skipped), sorted by
+  /// key, are prefetched (random queries over a large mesh are bound by
+  /// memory latency, so the misses should overlap); all but the nearest are
+  /// pushed, farthest first. Returns the nearest, or kEmptyChild if none.
+  std::uint32_t VisitSorted(
+    const Node& node, int mask, const float* keys, Entry* stack, int& top) const
+  {
+    Entry hits[kWidth];
+    int numHits = 0;
+    for (int c = 0; c < kWidth; ++c)
+    {
+      if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
+      {
+        const Entry e{ node.Child[c], keys[c] };
+        int j = numHits++;
+        for (; j > 0 && hits[j - 1].Key > e.Key; --j)
+        {
+          hits[j] = hits[j - 1];
+        }
+        hits[j] = e;
+      }
+    }
+    if (numHits == 0)
+    {
+      return kEmptyChild;
+    }
+    for (int j = 0; j < numHits; ++j)
+    {
+      this->Prefetch(hits[j].Ref);
+    }
+    for (int j = numHits - 1; j > 0; --j)
+    {
+      stack[top++] = hits[j];
+    }
+    return hits[0].Ref;
+  }
+
   /// Box of the primitives below a child reference; false if an invariant of
   /// Validate() fails in that subtree.
   bool ValidateSubtree(
@@ -1282,11 +1327,6 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
     xhi[k] = detail::FloatUp(y + std::abs(y) * 0x1p-50);
   }
 
-  struct Entry
-  {
-    std::uint32_t Ref;
-    float Dist2;
-  };
   Entry stack[kStackSize];
   int top = 0;
   stack[top++] = Entry{ 0u, 0.0f };
@@ -1294,11 +1334,11 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
   while (top > 0)
   {
     const Entry entry = stack[--top];
-    if (entry.Dist2 > threshold)
+    if (entry.Key > threshold)
     {
       if (relax)
       {
-        relax->MinPruned2 = std::min(relax->MinPruned2, entry.Dist2);
+        relax->MinPruned2 = std::min(relax->MinPruned2, entry.Key);
       }
       continue; // a closer primitive was found since this entry was pushed
     }
@@ -1332,42 +1372,23 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
       const Node& node = this->Nodes[ref];
       float dist2[kWidth];
       const int mask = BoxDistances(node, xlo, xhi, threshold, dist2);
-      // Collect the children to visit, sorted by distance. Empty slots hold
-      // an inverted box whose finite distance may pass the test: skip them.
-      Entry hits[kWidth];
-      int numHits = 0;
-      for (int c = 0; c < kWidth; ++c)
+      // Empty slots hold an inverted box whose finite distance may pass the
+      // test: they are skipped, and are not pruned boxes either.
+      if (relax)
       {
-        if (relax && !(mask >> c & 1) && node.Child[c] != kEmptyChild)
+        for (int c = 0; c < kWidth; ++c)
         {
-          relax->MinPruned2 = std::min(relax->MinPruned2, dist2[c]);
-        }
-        if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
-        {
-          Entry e{ node.Child[c], dist2[c] };
-          int j = numHits++;
-          for (; j > 0 && hits[j - 1].Dist2 > e.Dist2; --j)
+          if (!(mask >> c & 1) && node.Child[c] != kEmptyChild)
           {
-            hits[j] = hits[j - 1];
+            relax->MinPruned2 = std::min(relax->MinPruned2, dist2[c]);
           }
-          hits[j] = e;
         }
       }
-      if (numHits == 0)
+      ref = this->VisitSorted(node, mask, dist2, stack, top);
+      if (ref == kEmptyChild)
       {
         break;
       }
-      // Random queries over a large mesh are bound by memory latency: request
-      // every child that will be visited now, so the misses overlap.
-      for (int j = 0; j < numHits; ++j)
-      {
-        this->Prefetch(hits[j].Ref);
-      }
-      for (int j = numHits - 1; j > 0; --j)
-      {
-        stack[top++] = hits[j];
-      }
-      ref = hits[0].Ref;
     }
   }
   return best;
@@ -1579,12 +1600,7 @@ std::int64_t Bvh<DIM>::TraceRay(const Vec<DIM>& origin, const Vec<DIM>& directio
   const float tMinBox = lowerT(tMin);
   float tMaxBox = upperT(tMax);
 
-  struct Entry
-  {
-    std::uint32_t Ref;
-    float T; // lower bound of the entry parameter t'
-  };
-  Entry stack[kStackSize];
+  Entry stack[kStackSize]; // keys: lower bounds of the entry parameter t'
   int top = 0;
   stack[top++] = Entry{ 0u, tMinBox };
   std::int64_t best = -1;
@@ -1592,7 +1608,7 @@ std::int64_t Bvh<DIM>::TraceRay(const Vec<DIM>& origin, const Vec<DIM>& directio
   while (top > 0)
   {
     const Entry next = stack[--top];
-    if (next.T > tMaxBox)
+    if (next.Key > tMaxBox)
     {
       continue; // a nearer hit was found since this entry was pushed
     }
@@ -1630,35 +1646,11 @@ std::int64_t Bvh<DIM>::TraceRay(const Vec<DIM>& origin, const Vec<DIM>& directio
       const Node& node = this->Nodes[ref];
       float entries[kWidth];
       const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
-      // Children to visit, sorted by entry; empty slots are skipped.
-      Entry hits[kWidth];
-      int numHits = 0;
-      for (int c = 0; c < kWidth; ++c)
-      {
-        if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
-        {
-          Entry e{ node.Child[c], entries[c] };
-          int k = numHits++;
-          for (; k > 0 && hits[k - 1].T > e.T; --k)
-          {
-            hits[k] = hits[k - 1];
-          }
-          hits[k] = e;
-        }
-      }
-      if (numHits == 0)
+      ref = this->VisitSorted(node, mask, entries, stack, top);
+      if (ref == kEmptyChild)
       {
         break;
       }
-      for (int k = 0; k < numHits; ++k)
-      {
-        this->Prefetch(hits[k].Ref);
-      }
-      for (int k = numHits - 1; k > 0; --k)
-      {
-        stack[top++] = hits[k];
-      }
-      ref = hits[0].Ref;
     }
   }
   return best;
