@@ -280,6 +280,10 @@ private:
     const double radius = green.Radius();
     const double weightC = green.BoundaryWeight();
     const double kappa = green.GradientWeight();
+    // b̄ = (n/κ) ∇̄u. For a screened ball far larger than the screening
+    // length, κ and C underflow to 0 together (both ∝ e^{−z}); the control
+    // C b̄·ν is then 0 as well, not 0 · inf = NaN.
+    const double linearScale = kappa > 0.0 ? DIM / kappa : 0.0;
     const double alpha = kernels.BoundaryNormalWeight();
     const double beta = kernels.BoundaryIdentityWeight();
     const double kernelMean = kernels.BoundaryKernelMean();
@@ -381,7 +385,7 @@ private:
             mBar = history.GetMean(l.TailMean + c);
             for (int i = 0; i < DIM; ++i)
             {
-              bBar[i] = (n / kappa) * history.GetMean(l.Gradient + c * DIM + i);
+              bBar[i] = linearScale * history.GetMean(l.Gradient + c * DIM + i);
             }
           }
           const double linear = bBar.dot(nu);

@@ -307,12 +307,18 @@ public:
 
   // Radius with density ∝ r^{n−1} G_c(r), by rejection (FORMULAS.md §6):
   // G_c <= G and G_c <= Φ_c, so either kernel's exact sampler is a proposal.
-  // Worst acceptance is ~0.56 at the switch, z² = 2n.
+  // Worst acceptance is ~0.56 at the switch, z² = 2n. So kMaxProposals
+  // rejections in a row (probability below 0.44^1000, zero in double) only
+  // happen for a ball whose radius or coefficient is NaN or infinite, where
+  // every test fails: the radius is then NaN (the walk's sample becomes NaN
+  // and is seen) instead of an endless loop.
+  static constexpr int kMaxProposals = 1000;
+
   double SampleRadius(RandomStream& rng) const
   {
     if (this->UseHarmonicProposal)
     {
-      for (;;)
+      for (int proposal = 0; proposal < kMaxProposals; ++proposal)
       {
         const double r = greens_detail::SampleHarmonicRadius<DIM>(this->R, rng);
         const double harmonic = HarmonicGreensFunction<DIM>(this->R).Value(r);
@@ -321,8 +327,9 @@ public:
           return r;
         }
       }
+      return std::numeric_limits<double>::quiet_NaN();
     }
-    for (;;)
+    for (int proposal = 0; proposal < kMaxProposals; ++proposal)
     {
       // Free-space radial densities: 2D r K0(sr) (s r/2 is the geometric mean
       // of two Exp(1)), 3D r e^{−sr} (Gamma(2, 1/s)).
@@ -338,6 +345,7 @@ public:
         return r;
       }
     }
+    return std::numeric_limits<double>::quiet_NaN();
   }
 
   // d = y − x with volume pdf Density(|d|): then ∫_B f G_c ≈ Integral()·f(x + d).

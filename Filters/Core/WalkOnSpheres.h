@@ -326,8 +326,11 @@ private:
         }
         weight /= survive;
       }
-      else if (!exterior && fromCenter2 > escape2)
+      else if (!exterior &&
+        (fromCenter2 > escape2 || fromCenter2 == std::numeric_limits<double>::infinity()))
       {
+        // (An infinite squared distance, beyond ~1e154, is past any far
+        // sphere even when the squared escape radius overflowed as well.)
         end = WalkEnd::Escaped;
         hasBoundaryValue = false;
         break;
@@ -338,7 +341,9 @@ private:
       // made it heavier than a 512-walk sample variance can judge at 5σ.
       const double radius =
         biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon);
-      if (radius < s.Epsilon)
+      // A NaN radius (a position that overflowed) ends the walk too: its
+      // closest point is none, so the sample is NaN and visible.
+      if (!(radius >= s.Epsilon))
       {
         break;
       }
@@ -447,7 +452,7 @@ private:
     for (steps = 0;; ++steps)
     {
       const double radius = this->Geometry.StepRadius(x, this->Settings.Epsilon);
-      if (radius < this->Settings.Epsilon || steps >= this->Settings.MaxSteps)
+      if (!(radius >= this->Settings.Epsilon) || steps >= this->Settings.MaxSteps)
       {
         this->Geometry.Evaluate(this->Geometry.ClosestPoint(x), this->InnerValue.data());
         return;

@@ -508,3 +508,33 @@ TEST(DerivativeWalkOnSpheres, Exterior3D)
   const SampleLayout layout = DerivativeWalkOnSpheres<3>(boundary, settings, request).Layout();
   ExpectAllCalibrated(Calibrate<3>(run, points, ChecksFor<3>(layout, s, true)), "exterior");
 }
+
+// A screened ball far larger than the screening length (z = √c R beyond
+// ~745) has C and κ both underflowing to 0: the value's control C b̄·ν,
+// b̄ = (n/κ) ∇̄u, must then be 0, not 0 · inf = NaN. Points far outside the
+// boundary make such balls; their solution is 0 to double precision.
+TEST(DerivativeWalkOnSpheres, ScreenedBallsBeyondUnderflowGiveZeroNotNaN)
+{
+  const Boundary<3> boundary =
+    MakeBoundary<3>(MakeIcosphere(2), { [](const Vec3& x) { return 1.0 + x[0]; } });
+  WalkSettings settings;
+  settings.Epsilon = 1e-3;
+  settings.Problem = Equation::ScreenedPoisson;
+  settings.ScreeningCoefficient = 1.0;
+  DerivativeRequest request;
+  request.Gradient = true;
+  request.Hessian = true;
+  request.ControlVariates = true;
+  DerivativeWalkOnSpheres<3> estimator(boundary, settings, request);
+  for (double distance : { 1e3, 1e5, 1e20 })
+  {
+    RunningStatistics stats(estimator.Layout().Size);
+    WalkCounters counters;
+    const double xyz[3] = { distance, 0.0, 0.0 };
+    estimator.EstimatePoint(xyz, 3, 0, 600, stats, counters);
+    for (int k = 0; k < estimator.Layout().Size; ++k)
+    {
+      EXPECT_EQ(stats.GetMean(k), 0.0) << "distance " << distance << " output " << k;
+    }
+  }
+}

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <utility>
 #include <vector>
 
 using namespace gridfree;
@@ -263,4 +265,51 @@ TEST(BallSampling, UniformInUnitBall2D)
 TEST(BallSampling, UniformInUnitBall3D)
 {
   CheckUnitBall<3>();
+}
+
+namespace
+{
+// A ball whose radius or coefficient is NaN or infinite (a walk whose
+// position overflowed) fails every acceptance test of the rejection
+// sampler: it must give up with a NaN radius, never loop forever.
+template <int DIM>
+void CheckInvalidBallsEnd()
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::pair<double, double> cases[] = { { nan, 1.0 }, { 1.0, nan }, { nan, nan },
+    { inf, 1.0 }, { inf, inf }, { 1.0, inf } };
+  RandomStream rng(5, 0);
+  for (const auto& c : cases)
+  {
+    const YukawaGreensFunction<DIM> g(c.first, c.second);
+    for (int i = 0; i < 100; ++i)
+    {
+      // Returning at all is the test (a hang fails by ctest's timeout); a
+      // NaN radius cannot give a radius in a ball.
+      const double r = g.SampleRadius(rng);
+      if (std::isnan(c.first))
+      {
+        EXPECT_TRUE(std::isnan(r)) << "R " << c.first << " c " << c.second << " r " << r;
+      }
+    }
+  }
+  // A valid ball never hits the cap: 10⁵ draws, all inside the ball.
+  const YukawaGreensFunction<DIM> valid(0.5, 3.0);
+  for (int i = 0; i < 100000; ++i)
+  {
+    const double r = valid.SampleRadius(rng);
+    ASSERT_TRUE(r > 0.0 && r < 0.5) << r;
+  }
+}
+} // namespace
+
+TEST(GreensFunctionSampling, InvalidBallsEndWithNaN2D)
+{
+  CheckInvalidBallsEnd<2>();
+}
+
+TEST(GreensFunctionSampling, InvalidBallsEndWithNaN3D)
+{
+  CheckInvalidBallsEnd<3>();
 }
