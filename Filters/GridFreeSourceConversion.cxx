@@ -686,6 +686,15 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
         std::to_string(components) + ")";
       return false;
     }
+    if (array->GetNumberOfTuples() != source->GetNumberOfPoints())
+    {
+      // Values are read one tuple per point: a shorter array would be read
+      // past its end.
+      reason = "the source array '" + std::string(array->GetName() ? array->GetName() : "") +
+        "' has " + std::to_string(array->GetNumberOfTuples()) + " tuples, but the Source input has " +
+        std::to_string(source->GetNumberOfPoints()) + " points";
+      return false;
+    }
     for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t)
     {
       for (int c = 0; c < array->GetNumberOfComponents(); ++c)

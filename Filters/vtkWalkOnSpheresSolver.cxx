@@ -35,12 +35,16 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -51,6 +55,71 @@ namespace
 constexpr int BoundaryPort = 0;
 constexpr int ProbePort = 1;
 constexpr int SourcePort = 2;
+
+// A solve projected (after kRateSeconds of measuring) to take longer than
+// kLongSolveSeconds is announced with a warning.
+constexpr double kRateSeconds = 1.0;
+constexpr double kLongSolveSeconds = 120.0;
+
+// Walks of one point run in chunks of this many, with a check for abort in
+// between: a point with millions of walks must not make abort wait for it.
+// A multiple of the derivative estimator's control blocks (256), so chunks
+// give the same numbers as one call.
+constexpr int kChunkWalks = 1024;
+
+// "3 minutes", "5 hours", "2 days": a projected solve time for a message.
+std::string DescribeDuration(double seconds)
+{
+  struct Unit
+  {
+    double Seconds;
+    const char* Name;
+  };
+  const Unit units[] = { { 86400.0 * 365.0, "years" }, { 86400.0, "days" }, { 3600.0, "hours" },
+    { 60.0, "minutes" } };
+  for (const Unit& u : units)
+  {
+    if (seconds >= 2.0 * u.Seconds)
+    {
+      std::ostringstream text;
+      text << static_cast<long long>(std::min(seconds / u.Seconds, 1e15) + 0.5) << " " << u.Name;
+      return text.str();
+    }
+  }
+  return std::to_string(static_cast<long long>(seconds + 0.5)) + " seconds";
+}
+
+// Runs `walks` walks of one point into stats/counters in chunks of
+// kChunkWalks, adding each finished chunk to `done` and stopping between
+// chunks when `cancel` is set. Returns false if the point was not finished;
+// `status` receives the derivative estimator's status (unset otherwise).
+template <class Estimator, class Status>
+bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed, int walks,
+  gridfree::RunningStatistics& stats, gridfree::WalkCounters& counters,
+  const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, Status& status)
+{
+  for (int first = 0; first < walks; first += kChunkWalks)
+  {
+    if (first > 0 && cancel.load(std::memory_order_relaxed))
+    {
+      return false;
+    }
+    const int count = std::min(kChunkWalks, walks - first);
+    using Result = decltype(estimator.EstimatePoint(
+      xyz, seed, std::uint64_t(0), count, stats, counters));
+    if constexpr (std::is_void_v<Result>)
+    {
+      estimator.EstimatePoint(xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
+    }
+    else
+    {
+      status = estimator.EstimatePoint(
+        xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
+    }
+    done.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
+  }
+  return true;
+}
 
 vtkSmartPointer<vtkDoubleArray> MakeArray(const std::string& name, int components, vtkIdType tuples)
 {
@@ -483,6 +552,19 @@ public:
                                     << " in world units; boundary diagonal " << diagonal << ").");
       return false;
     }
+    if (settings.Epsilon >= 0.1 * diagonal)
+    {
+      // Walks stop within ε of the boundary: at this size the result is
+      // little more than the boundary value nearest to each probe point.
+      vtkWarningWithObjectMacro(self, << "Epsilon is " << settings.Epsilon
+                                      << " in world units, at least a tenth of the boundary's "
+                                         "diagonal ("
+                                      << diagonal
+                                      << "): walks stop that far from the boundary, so the "
+                                         "result is mostly the nearest boundary value, not the "
+                                         "solution. Typical values are 1e-4 to 1e-2 of the "
+                                         "diagonal (EpsilonIsRelative).");
+    }
     settings.MaxSteps = self->MaxSteps;
     settings.Problem = static_cast<gridfree::Equation>(self->Equation);
     settings.ScreeningCoefficient = self->ScreeningCoefficient;
@@ -515,9 +597,22 @@ public:
 
     const vtkIdType numPoints = in.Probe->GetNumberOfPoints();
     std::vector<std::array<double, 3>> points(static_cast<std::size_t>(numPoints));
+    vtkIdType nonFinitePoints = 0;
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
       in.Probe->GetPoint(i, points[i].data());
+      bool finite = true;
+      for (int k = 0; k < DIM; ++k)
+      {
+        finite = finite && std::isfinite(points[i][k]);
+      }
+      nonFinitePoints += finite ? 0 : 1;
+    }
+    if (nonFinitePoints > 0)
+    {
+      vtkWarningWithObjectMacro(self, << nonFinitePoints << " of " << numPoints
+                                      << " probe points have NaN or infinite coordinates: their "
+                                         "results are NaN.");
     }
 
     const int outputComponents = biharmonic ? 2 * nc : nc;
@@ -560,8 +655,31 @@ public:
     bool unboundedSource = false;
 
     const auto start = std::chrono::steady_clock::now();
-    auto reportProgress = [self](double fraction) {
-      self->UpdateProgress(fraction);
+    // Progress counts walks, so that a few points with very many walks each
+    // still report it; once the rate is known, a solve projected to take
+    // long is announced (abort stays possible: walks run in chunks that
+    // check for it, see EstimateInChunks).
+    const double totalWalks = static_cast<double>(numPoints) * walks;
+    std::atomic<std::uint64_t> walksDone{ 0 };
+    bool announced = false;
+    auto reportProgress = [&](double fraction) {
+      const double done = static_cast<double>(walksDone.load(std::memory_order_relaxed));
+      const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!announced && done > 0.0 && elapsed >= kRateSeconds)
+      {
+        announced = true;
+        const double projected = elapsed * totalWalks / done;
+        if (projected >= kLongSolveSeconds)
+        {
+          vtkWarningWithObjectMacro(self, << "This solve will take about "
+                                          << DescribeDuration(projected) << " at the current rate ("
+                                          << numPoints << " points, " << walks
+                                          << " walks per point): lower WalksPerPoint or the "
+                                             "probe's resolution, or abort it.");
+        }
+      }
+      self->UpdateProgress(std::max(fraction, std::min(1.0, done / totalWalks)));
       return !self->GetAbortExecute();
     };
 
@@ -625,6 +743,7 @@ public:
                   static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
               }
               blockDone[item] = 1;
+              walksDone.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
             }
             if (!estimator.SourceSupportIsBounded())
             {
@@ -731,8 +850,12 @@ public:
             {
               stats.Reset();
               gridfree::WalkCounters counters;
-              const auto status =
-                estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+              auto status = gridfree::DerivativeStatus::Interior;
+              if (!EstimateInChunks(estimator, points[i].data(), seed, walks, stats, counters,
+                    cancel, walksDone, status))
+              {
+                break; // aborted: the point keeps its NaN
+              }
               counts[static_cast<int>(status)] += 1;
               store(i, stats, layout.Value, layout.Laplacian, counters);
               if (anyDerivative)
@@ -751,7 +874,12 @@ public:
             {
               stats.Reset();
               gridfree::WalkCounters counters;
-              estimator.EstimatePoint(points[i].data(), seed, 0, walks, stats, counters);
+              int noStatus = 0;
+              if (!EstimateInChunks(estimator, points[i].data(), seed, walks, stats, counters,
+                    cancel, walksDone, noStatus))
+              {
+                break; // aborted: the point keeps its NaN
+              }
               store(i, stats, 0, nc, counters);
             }
             bounded = estimator.SourceSupportIsBounded();
@@ -801,6 +929,19 @@ public:
     {
       vtkWarningWithObjectMacro(self, << "Solve aborted: points not reached are NaN.");
       return true;
+    }
+    // NaN results of finite probe points: walks whose coordinates overflowed
+    // (points far beyond the boundary's scale) end with no boundary value.
+    vtkIdType nanResults = -nonFinitePoints;
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      nanResults += std::isnan(mean->GetValue(i * nc)) ? 1 : 0;
+    }
+    if (nanResults > 0)
+    {
+      vtkWarningWithObjectMacro(self, << nanResults << " of " << numPoints
+                                      << " probe points got NaN results: their walks overflowed "
+                                         "(coordinates far beyond the boundary's size?).");
     }
     if (totals.Escaped > 0 && biharmonic)
     {
@@ -1003,7 +1144,8 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
 //------------------------------------------------------------------------------
 // The numeric array selected as input array `index` on `data`, or, with no
 // selection and `fallback` set, the active point (then cell) scalars. Sets
-// `missing` to an error message when a named array is absent or not numeric.
+// `missing` to an error message when a named array is absent or not numeric,
+// or when the array found has not one tuple per point (cell) of `data`.
 vtkDataArray* vtkWalkOnSpheresSolver::ResolveArray(
   int index, vtkDataSet* data, bool fallback, int& association, std::string& missing)
 {
@@ -1037,6 +1179,18 @@ vtkDataArray* vtkWalkOnSpheresSolver::ResolveArray(
       association = vtkDataObject::FIELD_ASSOCIATION_CELLS;
       values = data->GetCellData()->GetScalars();
     }
+  }
+  // vtkDataSetAttributes accepts arrays of any length; reading one tuple per
+  // point (or cell) of a shorter array would read past its end.
+  const bool cells = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+  const vtkIdType expected = cells ? data->GetNumberOfCells() : data->GetNumberOfPoints();
+  if (values && (association == vtkDataObject::FIELD_ASSOCIATION_POINTS || cells) &&
+    values->GetNumberOfTuples() != expected)
+  {
+    missing = "the array '" + std::string(values->GetName() ? values->GetName() : "") + "' has " +
+      std::to_string(values->GetNumberOfTuples()) + " tuples, but the mesh has " +
+      std::to_string(expected) + (cells ? " cells" : " points");
+    return nullptr;
   }
   return values;
 }

@@ -4,7 +4,7 @@ import math
 
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
-from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray
+from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersSources import vtkRegularPolygonSource, vtkSphereSource
 
@@ -22,6 +22,27 @@ def add_point_array(polydata, name, function, components=1):
         array.InsertNextTuple(value if components > 1 else (value,))
     polydata.GetPointData().AddArray(array)
     return array
+
+
+def filled_array(name, tuples, value, components=1):
+    """A vtkDoubleArray of `tuples` tuples, every number `value`."""
+    array = vtkDoubleArray()
+    array.SetName(name)
+    array.SetNumberOfComponents(components)
+    array.SetNumberOfTuples(tuples)
+    array.Fill(value)
+    return array
+
+
+def point_cloud(points):
+    """A vtkPolyData of the given points (double coordinates), no cells."""
+    cloud = vtkPolyData()
+    vtk_points = vtkPoints()
+    vtk_points.SetDataTypeToDouble()
+    for p in points:
+        vtk_points.InsertNextPoint(*p)
+    cloud.SetPoints(vtk_points)
+    return cloud
 
 
 def sphere_boundary(function=saddle, name="T", resolution=128):

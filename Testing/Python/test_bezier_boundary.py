@@ -124,6 +124,34 @@ def test_wrong_control_point_count_is_an_error():
     assert "has 5 points" in text, text
 
 
+def test_marker_array_of_the_wrong_kind_is_an_error():
+    """BezierControlPoints must be one numeric component per cell."""
+    from vtkmodules.vtkCommonCore import vtkStringArray
+    for kind in ("two components", "string", "point data"):
+        boundary = bezier_square()
+        boundary.GetCellData().RemoveArray("BezierControlPoints")
+        if kind == "two components":
+            marks = vtkIntArray()
+            marks.SetNumberOfComponents(2)
+            marks.InsertNextTuple2(1, 1)
+        elif kind == "string":
+            marks = vtkStringArray()
+            marks.InsertNextValue("yes")
+        else:
+            marks = vtkIntArray()
+            for _ in range(boundary.GetNumberOfPoints()):
+                marks.InsertNextValue(1)
+        marks.SetName("BezierControlPoints")
+        if kind == "point data":
+            boundary.GetPointData().AddArray(marks)
+        else:
+            boundary.GetCellData().AddArray(marks)
+        _, catcher = solve(boundary, walks=4)
+        expected = "must be cell data" if kind == "point data" else \
+            "must be numeric with one component and one value per cell"
+        assert expected in catcher.error_text(), (kind, catcher.error_text())
+
+
 def test_example_writes_an_image(tmp_path):
     output = os.path.join(str(tmp_path), "diffusion_curve.vti")
     run = subprocess.run(
