@@ -7,12 +7,14 @@
 #include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
+#include "RunningSumsCache.h"
 #include "DerivativeWalkOnSpheres.h"
 #include "WalkOnSpheres.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
@@ -23,23 +25,31 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
 #include "vtkImplicitFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMatrix3x3.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
+#include "vtkRectilinearGrid.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -89,22 +99,23 @@ std::string DescribeDuration(double seconds)
   return std::to_string(static_cast<long long>(seconds + 0.5)) + " seconds";
 }
 
-// Runs `walks` walks of one point into stats/counters in chunks of
-// kChunkWalks, adding each finished chunk to `done` and stopping between
-// chunks when `cancel` is set. Returns false if the point was not finished;
-// `status` receives the derivative estimator's status (unset otherwise).
+// Runs walks number `from` to `to` - 1 of one point into stats/counters in
+// chunks of kChunkWalks, adding each finished chunk to `done` and stopping
+// between chunks when `cancel` is set. Returns false if they were not all
+// run; `status` receives the derivative estimator's status (unset
+// otherwise). `from` must be a multiple of the estimator's control block.
 template <class Estimator, class Status>
-bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed, int walks,
-  gridfree::RunningStatistics& stats, gridfree::WalkCounters& counters,
+bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed, int from,
+  int to, gridfree::RunningStatistics& stats, gridfree::WalkCounters& counters,
   const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, Status& status)
 {
-  for (int first = 0; first < walks; first += kChunkWalks)
+  for (int first = from; first < to; first += kChunkWalks)
   {
-    if (first > 0 && cancel.load(std::memory_order_relaxed))
+    if (first > from && cancel.load(std::memory_order_relaxed))
     {
       return false;
     }
-    const int count = std::min(kChunkWalks, walks - first);
+    const int count = std::min(kChunkWalks, to - first);
     using Result = decltype(estimator.EstimatePoint(
       xyz, seed, std::uint64_t(0), count, stats, counters));
     if constexpr (std::is_void_v<Result>)
@@ -252,6 +263,162 @@ struct DerivativeArrays
   }
 };
 } // namespace
+
+// What a dataset's content is made of: its arrays (points, cells, point,
+// cell and field data) by identity and modification time, and the values
+// that define an image's or a rectilinear grid's geometry. Pipelines often
+// hand a filter a fresh shallow copy of the same data (ParaView's
+// vtkPVPostFilter does, at every update), whose own MTime moves while its
+// arrays stay the same; any real edit changes an array or these values.
+static void AppendFingerprint(vtkObject* object, std::vector<std::uint64_t>& print)
+{
+  auto add = [&print](const void* p, vtkMTimeType t) {
+    print.push_back(static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(p)));
+    print.push_back(static_cast<std::uint64_t>(t));
+  };
+  auto addDouble = [&print](double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    print.push_back(bits);
+  };
+  auto addAttributes = [&add](vtkFieldData* fd) {
+    if (!fd)
+    {
+      return;
+    }
+    for (int k = 0; k < fd->GetNumberOfArrays(); ++k)
+    {
+      vtkAbstractArray* a = fd->GetAbstractArray(k);
+      add(a, a ? a->GetMTime() : 0);
+    }
+  };
+  if (!object)
+  {
+    add(nullptr, 0);
+    return;
+  }
+  auto* data = vtkDataObject::SafeDownCast(object);
+  if (!data)
+  {
+    add(object, object->GetMTime()); // the implicit function
+    return;
+  }
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    auto it = vtk::TakeSmartPointer(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      AppendFingerprint(it->GetCurrentDataObject(), print);
+    }
+    return;
+  }
+  addAttributes(data->GetFieldData());
+  auto* dataset = vtkDataSet::SafeDownCast(data);
+  if (!dataset)
+  {
+    add(data, data->GetMTime());
+    return;
+  }
+  print.push_back(static_cast<std::uint64_t>(dataset->GetNumberOfPoints()));
+  print.push_back(static_cast<std::uint64_t>(dataset->GetNumberOfCells()));
+  addAttributes(dataset->GetPointData());
+  addAttributes(dataset->GetCellData());
+  if (auto* pointSet = vtkPointSet::SafeDownCast(dataset))
+  {
+    vtkPoints* points = pointSet->GetPoints();
+    add(points, points ? points->GetMTime() : 0);
+  }
+  if (auto* poly = vtkPolyData::SafeDownCast(dataset))
+  {
+    for (vtkCellArray* cells : { poly->GetVerts(), poly->GetLines(), poly->GetPolys(),
+           poly->GetStrips() })
+    {
+      add(cells, cells ? cells->GetMTime() : 0);
+    }
+  }
+  else if (auto* grid = vtkUnstructuredGrid::SafeDownCast(dataset))
+  {
+    add(grid->GetCells(), grid->GetCells() ? grid->GetCells()->GetMTime() : 0);
+    add(grid->GetCellTypesArray(),
+      grid->GetCellTypesArray() ? grid->GetCellTypesArray()->GetMTime() : 0);
+  }
+  else if (auto* image = vtkImageData::SafeDownCast(dataset))
+  {
+    int extent[6];
+    image->GetExtent(extent);
+    for (int v : extent)
+    {
+      print.push_back(static_cast<std::uint64_t>(static_cast<std::int64_t>(v)));
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      addDouble(image->GetOrigin()[k]);
+      addDouble(image->GetSpacing()[k]);
+    }
+    for (int k = 0; k < 9; ++k)
+    {
+      addDouble(image->GetDirectionMatrix()->GetData()[k]);
+    }
+  }
+  else if (auto* rectilinear = vtkRectilinearGrid::SafeDownCast(dataset))
+  {
+    for (vtkDataArray* c : { rectilinear->GetXCoordinates(), rectilinear->GetYCoordinates(),
+           rectilinear->GetZCoordinates() })
+    {
+      add(c, c ? c->GetMTime() : 0);
+    }
+    int extent[6];
+    rectilinear->GetExtent(extent);
+    for (int v : extent)
+    {
+      print.push_back(static_cast<std::uint64_t>(static_cast<std::int64_t>(v)));
+    }
+  }
+  else
+  {
+    // Another structured type: its own time (conservative: at worst a
+    // refinement starts afresh).
+    add(dataset, dataset->GetMTime());
+  }
+}
+
+// The running sums kept for progressive refinement, with what they were
+// computed from: the settings (every property but WalksPerPoint), and the
+// inputs and the implicit function by their fingerprints.
+struct vtkWalkOnSpheresSolverCache
+{
+  gridfree::RunningSumsCache Sums;
+  vtkMTimeType Settings = 0;
+  std::vector<std::uint64_t> Inputs;
+
+  static std::vector<std::uint64_t> Fingerprint(const std::array<vtkObject*, 4>& objects)
+  {
+    std::vector<std::uint64_t> print;
+    for (vtkObject* object : objects)
+    {
+      AppendFingerprint(object, print);
+      print.push_back(~std::uint64_t(0)); // separates the inputs
+    }
+    return print;
+  }
+
+  // Forgets the sums unless they were computed from these very inputs and
+  // settings.
+  void Validate(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects)
+  {
+    if (settings != this->Settings || Fingerprint(objects) != this->Inputs)
+    {
+      this->Sums.Clear();
+    }
+  }
+
+  // Remembers what the sums just kept come from.
+  void Remember(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects)
+  {
+    this->Settings = settings;
+    this->Inputs = Fingerprint(objects);
+  }
+};
 
 // Everything RequestData resolved from the inputs, handed to the runner.
 struct vtkWalkOnSpheresSolverInputs
@@ -654,12 +821,72 @@ public:
     std::array<vtkIdType, 3> statusCounts = { 0, 0, 0 };
     bool unboundedSource = false;
 
+    // Few points, several threads: spread each point's walks over the
+    // threads in blocks, each block recorded and then replayed in walk order,
+    // so the numbers are bit for bit those of one thread. Blocks of the
+    // derivative estimator are its control blocks, whose control variates
+    // only use the walks before them in the same block.
+    const int blockWalks =
+      derivativeWalks ? gridfree::DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
+    const int threadCount = gridfree::ResolveThreadCount(self->NumberOfThreads);
+    // The layout depends on which sources are active: ask an estimator made
+    // like the workers' ones.
+    gridfree::SampleLayout layout;
+    if (derivativeWalks)
+    {
+      std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
+        sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
+      layout = gridfree::DerivativeWalkOnSpheres<DIM>(
+        geometry, settings, request, volume.get(), concentrated)
+                 .Layout();
+    }
+    const int sampleSize = derivativeWalks ? layout.Size : outputComponents;
+
+    // Progressive refinement: continue from the running sums the last solve
+    // kept (RequestData forgot them if anything but WalksPerPoint changed),
+    // and keep this solve's at its last control block boundary (every walk
+    // for the plain estimator, whose walks are independent).
+    gridfree::RunningSumsCache& kept = self->Cache->Sums;
+    const int resumeBlock = derivativeWalks ? blockWalks : 1;
+    const auto pointCount = static_cast<std::size_t>(numPoints);
+    const bool resumed = self->KeepRunningSums &&
+      kept.CanResume(pointCount, sampleSize, resumeBlock, static_cast<std::uint64_t>(walks));
+    if (!resumed)
+    {
+      kept.Clear();
+      if (self->KeepRunningSums)
+      {
+        kept.Reset(pointCount, sampleSize, resumeBlock);
+      }
+    }
+    const int startWalks = resumed ? static_cast<int>(kept.KeptWalks()) : 0;
+    const int keepAt = self->KeepRunningSums
+      ? static_cast<int>(kept.ResumePoint(static_cast<std::uint64_t>(walks)))
+      : -1;
+    self->LastResumedWalksPerPoint = startWalks;
+    // Starts point i's sums: the kept ones, or none.
+    auto startPoint = [&](std::size_t i, gridfree::RunningStatistics& stats,
+                        gridfree::WalkCounters& counters, unsigned char& status) {
+      stats.Reset();
+      counters = gridfree::WalkCounters();
+      status = 0;
+      if (resumed)
+      {
+        kept.Load(i, stats, counters, status);
+      }
+    };
+
+    const std::size_t blocksPerPoint =
+      static_cast<std::size_t>((walks - startWalks + blockWalks - 1) / blockWalks);
+    const bool walkLevel = threadCount > 1 && numPoints < 2 * threadCount && blocksPerPoint > 1 &&
+      static_cast<double>(numPoints) * (walks - startWalks) * sampleSize <= 16.0 * 1024 * 1024;
+
     const auto start = std::chrono::steady_clock::now();
     // Progress counts walks, so that a few points with very many walks each
     // still report it; once the rate is known, a solve projected to take
     // long is announced (abort stays possible: walks run in chunks that
     // check for it, see EstimateInChunks).
-    const double totalWalks = static_cast<double>(numPoints) * walks;
+    const double totalWalks = static_cast<double>(numPoints) * static_cast<double>(walks - startWalks);
     std::atomic<std::uint64_t> walksDone{ 0 };
     bool announced = false;
     auto reportProgress = [&](double fraction) {
@@ -679,34 +906,11 @@ public:
                                              "probe's resolution, or abort it.");
         }
       }
-      self->UpdateProgress(std::max(fraction, std::min(1.0, done / totalWalks)));
+      self->UpdateProgress(
+        std::max(fraction, totalWalks > 0.0 ? std::min(1.0, done / totalWalks) : 1.0));
       return !self->GetAbortExecute();
     };
 
-    // Few points, several threads: spread each point's walks over the
-    // threads in blocks, each block recorded and then replayed in walk order,
-    // so the numbers are bit for bit those of one thread. Blocks of the
-    // derivative estimator are its control blocks, whose control variates
-    // only use the walks before them in the same block.
-    const int blockWalks =
-      derivativeWalks ? gridfree::DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
-    const std::size_t blocksPerPoint =
-      static_cast<std::size_t>((walks + blockWalks - 1) / blockWalks);
-    const int threadCount = gridfree::ResolveThreadCount(self->NumberOfThreads);
-    // The layout depends on which sources are active: ask an estimator made
-    // like the workers' ones.
-    gridfree::SampleLayout layout;
-    if (derivativeWalks)
-    {
-      std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-        sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
-      layout = gridfree::DerivativeWalkOnSpheres<DIM>(
-        geometry, settings, request, volume.get(), concentrated)
-                 .Layout();
-    }
-    const int sampleSize = derivativeWalks ? layout.Size : outputComponents;
-    const bool walkLevel = threadCount > 1 && numPoints < 2 * threadCount && blocksPerPoint > 1 &&
-      static_cast<double>(numPoints) * walks * sampleSize <= 16.0 * 1024 * 1024;
     bool completed = false;
     if (walkLevel)
     {
@@ -726,7 +930,7 @@ public:
                  item < end && !cancel.load(std::memory_order_relaxed); ++item)
             {
               const std::size_t i = item / blocksPerPoint;
-              const int first = static_cast<int>(item % blocksPerPoint) * blockWalks;
+              const int first = startWalks + static_cast<int>(item % blocksPerPoint) * blockWalks;
               const int count = std::min(blockWalks, walks - first);
               recorders[item].Reserve(static_cast<std::size_t>(count));
               using Result = decltype(estimator.EstimatePoint(points[i].data(), seed,
@@ -780,12 +984,25 @@ public:
         {
           continue; // aborted: the point keeps its NaN
         }
-        stats.Reset();
         gridfree::WalkCounters counters;
+        unsigned char keptStatus = 0;
+        startPoint(static_cast<std::size_t>(i), stats, counters, keptStatus);
+        int walksSoFar = startWalks;
         for (std::size_t b = 0; b < blocksPerPoint; ++b)
         {
+          if (walksSoFar == keepAt)
+          {
+            kept.Save(static_cast<std::size_t>(i), stats, counters,
+              static_cast<unsigned char>(pointStatus[static_cast<std::size_t>(i)]));
+          }
           recorders[firstItem + b].ReplayInto(stats);
           counters.Add(blockCounters[firstItem + b]);
+          walksSoFar += static_cast<int>(recorders[firstItem + b].SampleCount());
+        }
+        if (walksSoFar == keepAt)
+        {
+          kept.Save(static_cast<std::size_t>(i), stats, counters,
+            static_cast<unsigned char>(pointStatus[static_cast<std::size_t>(i)]));
         }
         for (int c = 0; c < nc; ++c)
         {
@@ -848,13 +1065,24 @@ public:
             gridfree::RunningStatistics stats(layout.Size);
             for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
             {
-              stats.Reset();
               gridfree::WalkCounters counters;
-              auto status = gridfree::DerivativeStatus::Interior;
-              if (!EstimateInChunks(estimator, points[i].data(), seed, walks, stats, counters,
-                    cancel, walksDone, status))
+              unsigned char keptStatus = 0;
+              startPoint(i, stats, counters, keptStatus);
+              auto status = static_cast<gridfree::DerivativeStatus>(keptStatus);
+              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks,
+                    std::max(keepAt, startWalks), stats, counters, cancel, walksDone, status))
               {
                 break; // aborted: the point keeps its NaN
+              }
+              if (keepAt >= startWalks)
+              {
+                kept.Save(i, stats, counters, static_cast<unsigned char>(status));
+              }
+              if (!EstimateInChunks(estimator, points[i].data(), seed,
+                    std::max(keepAt, startWalks), walks, stats, counters, cancel, walksDone,
+                    status))
+              {
+                break;
               }
               counts[static_cast<int>(status)] += 1;
               store(i, stats, layout.Value, layout.Laplacian, counters);
@@ -872,13 +1100,17 @@ public:
             gridfree::RunningStatistics stats(outputComponents);
             for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
             {
-              stats.Reset();
               gridfree::WalkCounters counters;
-              int noStatus = 0;
-              if (!EstimateInChunks(estimator, points[i].data(), seed, walks, stats, counters,
-                    cancel, walksDone, noStatus))
+              unsigned char noStatus = 0;
+              startPoint(i, stats, counters, noStatus);
+              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, walks, stats,
+                    counters, cancel, walksDone, noStatus))
               {
                 break; // aborted: the point keeps its NaN
+              }
+              if (keepAt == walks)
+              {
+                kept.Save(i, stats, counters, 0);
               }
               store(i, stats, 0, nc, counters);
             }
@@ -897,7 +1129,17 @@ public:
     const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    self->LastNumberOfWalks = static_cast<vtkIdType>(totals.Walks);
+    // Walks run now; the output stands for totals.Walks (kept ones included).
+    self->LastNumberOfWalks = static_cast<vtkIdType>(walksDone.load());
+    // Kept sums are whole only after a complete solve.
+    if (completed && keepAt > 0)
+    {
+      kept.SetKeptWalks(static_cast<std::uint64_t>(keepAt));
+    }
+    else
+    {
+      kept.Clear();
+    }
     self->LastSolveSeconds = seconds;
     self->LastDimension = DIM;
 
@@ -924,6 +1166,8 @@ public:
     AddFieldValue(fd, "EscapedWalks", static_cast<double>(totals.Escaped));
     AddFieldValue(fd, "TruncatedWalks", static_cast<double>(totals.Truncated));
     AddFieldValue(fd, "SolveSeconds", seconds);
+    // Progressive refinement: walks per point taken from the kept sums.
+    AddFieldValue(fd, "ResumedWalksPerPoint", static_cast<double>(startWalks));
 
     if (!completed)
     {
@@ -974,9 +1218,39 @@ public:
 
 //------------------------------------------------------------------------------
 vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
+  : Cache(new vtkWalkOnSpheresSolverCache)
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
+}
+
+//------------------------------------------------------------------------------
+void vtkWalkOnSpheresSolver::Modified()
+{
+  if (!this->ChangingOnlyWalks)
+  {
+    this->SettingsTime.Modified();
+  }
+  this->Superclass::Modified();
+}
+
+void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
+{
+  walks = std::max(walks, 2);
+  if (walks != this->WalksPerPoint)
+  {
+    this->WalksPerPoint = walks;
+    // Only the walk count changed: the kept running sums stay valid.
+    this->ChangingOnlyWalks = true;
+    this->Modified();
+    this->ChangingOnlyWalks = false;
+  }
+}
+
+void vtkWalkOnSpheresSolver::Refine()
+{
+  this->SetWalksPerPoint(this->WalksPerPoint > VTK_INT_MAX / 2 ? VTK_INT_MAX
+                                                               : 2 * this->WalksPerPoint);
 }
 
 vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
@@ -1598,6 +1872,11 @@ int vtkWalkOnSpheresSolver::RequestData(
   inputs.Probe = probe;
   inputs.Output = output;
   inputs.Name = name;
+  // Kept running sums stay usable only if nothing but WalksPerPoint changed.
+  const std::array<vtkObject*, 4> used = { boundaryObject, probe, source,
+    this->ImplicitBoundary };
+  this->Cache->Validate(this->SettingsTime.GetMTime(), used);
+  this->LastResumedWalksPerPoint = 0;
   bool ok = false;
   try
   {
@@ -1609,6 +1888,11 @@ int vtkWalkOnSpheresSolver::RequestData(
     vtkErrorMacro(<< "Walk on spheres failed: " << e.what());
     ok = false;
   }
+  if (!ok)
+  {
+    this->Cache->Sums.Clear();
+  }
+  this->Cache->Remember(this->SettingsTime.GetMTime(), used);
   this->UpdateProgress(1.0);
   return ok ? 1 : 0;
 }
@@ -1633,6 +1917,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
   os << indent << "NestedWalks: " << this->NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";
+  os << indent << "KeepRunningSums: " << (this->KeepRunningSums ? "On" : "Off") << "\n";
   os << indent << "Epsilon: " << this->Epsilon << "\n";
   os << indent << "EpsilonIsRelative: " << (this->EpsilonIsRelative ? "On" : "Off") << "\n";
   os << indent << "MaxSteps: " << this->MaxSteps << "\n";
@@ -1646,6 +1931,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DerivativeDirection: " << this->DerivativeDirection[0] << " "
      << this->DerivativeDirection[1] << " " << this->DerivativeDirection[2] << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
+  os << indent << "LastResumedWalksPerPoint: " << this->LastResumedWalksPerPoint << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
   os << indent << "LastDimension: " << this->LastDimension << "\n";
 }

@@ -96,6 +96,12 @@
  * probe point's coordinates and the walk's number, so the output is identical
  * for any NumberOfThreads and any partition of the probe.
  *
+ * Progressive refinement: raising WalksPerPoint (or calling Refine()) with
+ * nothing else changed runs only the missing walks, continuing from the
+ * running sums the last solve kept (KeepRunningSums); the result is that of
+ * one solve with all the walks, bit for bit. A quick preview with few walks
+ * can so be refined in place.
+ *
  * @sa vtkProbeFilter
  */
 #ifndef vtkWalkOnSpheresSolver_h
@@ -103,14 +109,17 @@
 
 #include "GridFreeFiltersModule.h" // for export macro
 #include "vtkDataSetAlgorithm.h"
+#include "vtkTimeStamp.h" // for SettingsTime
 
 #include <cstdint> // for std::uint64_t
+#include <memory>  // for std::unique_ptr
 #include <string>  // for std::string
 
 class vtkDataArray;
 class vtkDataSet;
 class vtkImplicitFunction;
 class vtkPolyData;
+struct vtkWalkOnSpheresSolverCache;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
 {
@@ -344,9 +353,35 @@ public:
   /**
    * Number of random walks per probe point (default 128, at least 2 so a
    * variance can be reported). The standard error falls as 1/sqrt(walks).
+   *
+   * Progressive refinement: when only WalksPerPoint has changed since the
+   * last solve (same inputs, same settings) and KeepRunningSums is on, a
+   * larger value continues from the running sums kept by that solve and runs
+   * only the missing walks; the result is bit for bit that of one solve with
+   * all of them. (With derivative walks, the sums are kept at the last
+   * multiple of 256 walks, so up to 255 walks per point are run again.)
    */
-  vtkSetClampMacro(WalksPerPoint, int, 2, VTK_INT_MAX);
+  virtual void SetWalksPerPoint(int walks);
   vtkGetMacro(WalksPerPoint, int);
+  ///@}
+
+  /**
+   * Doubles WalksPerPoint (up to VTK_INT_MAX): the next update adds as many
+   * walks as the last one had, continuing from the kept running sums.
+   * ParaView's "Refine" button.
+   */
+  void Refine();
+
+  ///@{
+  /**
+   * Keep every probe point's running sums after a solve, for progressive
+   * refinement (default on). They cost 16 bytes per output number and point
+   * plus 48 bytes per point (e.g. 80 bytes per point for a scalar solution);
+   * off frees them.
+   */
+  vtkSetMacro(KeepRunningSums, bool);
+  vtkGetMacro(KeepRunningSums, bool);
+  vtkBooleanMacro(KeepRunningSums, bool);
   ///@}
 
   ///@{
@@ -400,6 +435,17 @@ public:
   vtkGetMacro(LastDimension, int);
   ///@}
 
+  /**
+   * Walks per point the last execution took from kept running sums instead
+   * of running them (0 when it started afresh).
+   */
+  vtkGetMacro(LastResumedWalksPerPoint, vtkIdType);
+
+  /**
+   * Any change but WalksPerPoint's also marks the kept running sums stale.
+   */
+  void Modified() override;
+
 protected:
   vtkWalkOnSpheresSolver();
   ~vtkWalkOnSpheresSolver() override;
@@ -439,13 +485,23 @@ protected:
   bool ComputeDirectionalDerivative = false;
   double DerivativeDirection[3] = { 1.0, 0.0, 0.0 };
 
+  bool KeepRunningSums = true;
+
   vtkIdType LastNumberOfWalks = 0;
   double LastSolveSeconds = 0.0;
   int LastDimension = 0;
+  vtkIdType LastResumedWalksPerPoint = 0;
 
 private:
   vtkWalkOnSpheresSolver(const vtkWalkOnSpheresSolver&) = delete;
   void operator=(const vtkWalkOnSpheresSolver&) = delete;
+
+  // The running sums kept for progressive refinement, and what they were
+  // computed from.
+  std::unique_ptr<vtkWalkOnSpheresSolverCache> Cache;
+  // Modified by every change except one of WalksPerPoint alone.
+  vtkTimeStamp SettingsTime;
+  bool ChangingOnlyWalks = false;
 
   template <int DIM>
   friend class vtkWalkOnSpheresSolverRunner;

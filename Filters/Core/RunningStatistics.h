@@ -4,6 +4,7 @@
 #ifndef GRIDFREE_CORE_RUNNINGSTATISTICS_H
 #define GRIDFREE_CORE_RUNNINGSTATISTICS_H
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -42,6 +43,22 @@ public:
 
   int Components() const { return static_cast<int>(this->Mean.size()); }
   std::size_t SampleCount() const { return this->Count; }
+
+  // The exact state (count, means and sums of squared deviations), to be
+  // kept and restored later: adding more samples to a restored state gives
+  // bit for bit what adding all of them in one go would.
+  void SaveState(std::size_t& count, double* mean, double* m2) const
+  {
+    count = this->Count;
+    std::copy(this->Mean.begin(), this->Mean.end(), mean);
+    std::copy(this->M2.begin(), this->M2.end(), m2);
+  }
+  void RestoreState(std::size_t count, const double* mean, const double* m2)
+  {
+    this->Count = count;
+    std::copy(mean, mean + this->Mean.size(), this->Mean.begin());
+    std::copy(m2, m2 + this->M2.size(), this->M2.begin());
+  }
   double GetMean(int c) const { return this->Mean[c]; }
 
   // Unbiased sample variance of one sample, s^2 (N - 1 in the denominator).

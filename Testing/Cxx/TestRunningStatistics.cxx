@@ -1,7 +1,9 @@
 #include "RunningStatistics.h"
+#include "RunningSumsCache.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -54,4 +56,75 @@ TEST(RunningStatistics, VarianceUndefinedBelowTwoSamples)
   EXPECT_TRUE(std::isnan(stats.VarianceOfMean(0)));
   stats.Reset();
   EXPECT_EQ(stats.SampleCount(), 0u);
+}
+
+// A saved and restored state continues bit for bit: the basis of
+// progressive refinement (RunningSumsCache.h).
+TEST(RunningStatistics, RestoredStateContinuesBitForBit)
+{
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(3.0, 2.0);
+  std::vector<std::array<double, 2>> samples(1000);
+  for (auto& s : samples)
+  {
+    s = { normal(rng), 1e6 + normal(rng) };
+  }
+  gridfree::RunningStatistics all(2), first(2), resumed(2);
+  for (const auto& s : samples)
+  {
+    all.Add(s.data());
+  }
+  for (std::size_t i = 0; i < 377; ++i)
+  {
+    first.Add(samples[i].data());
+  }
+  std::size_t count;
+  double mean[2], m2[2];
+  first.SaveState(count, mean, m2);
+  resumed.RestoreState(count, mean, m2);
+  for (std::size_t i = 377; i < samples.size(); ++i)
+  {
+    resumed.Add(samples[i].data());
+  }
+  for (int c = 0; c < 2; ++c)
+  {
+    EXPECT_EQ(resumed.GetMean(c), all.GetMean(c));
+    EXPECT_EQ(resumed.VarianceOfMean(c), all.VarianceOfMean(c));
+  }
+  EXPECT_EQ(resumed.SampleCount(), all.SampleCount());
+}
+
+TEST(RunningSumsCache, ResumesOnlyWhatItKept)
+{
+  gridfree::RunningSumsCache cache;
+  EXPECT_FALSE(cache.CanResume(10, 3, 256, 1000)); // nothing kept
+  cache.Reset(10, 3, 256);
+  EXPECT_EQ(cache.ResumePoint(700), 512u);
+  EXPECT_EQ(cache.ResumePoint(255), 0u);
+  gridfree::RunningStatistics stats(3);
+  const double sample[3] = { 1.0, 2.0, 4.0 };
+  stats.Add(sample);
+  stats.Add(sample);
+  gridfree::WalkCounters counters;
+  counters.Walks = 2;
+  counters.Steps = 9;
+  cache.Save(4, stats, counters, 1);
+  cache.SetKeptWalks(512);
+  EXPECT_TRUE(cache.CanResume(10, 3, 256, 512));
+  EXPECT_TRUE(cache.CanResume(10, 3, 256, 4096));
+  EXPECT_FALSE(cache.CanResume(10, 3, 256, 511)); // fewer walks than kept
+  EXPECT_FALSE(cache.CanResume(11, 3, 256, 4096)); // another probe
+  EXPECT_FALSE(cache.CanResume(10, 2, 256, 4096)); // another layout
+  EXPECT_FALSE(cache.CanResume(10, 3, 1, 4096));   // another estimator
+  gridfree::RunningStatistics loaded(3);
+  gridfree::WalkCounters loadedCounters;
+  unsigned char status = 0;
+  cache.Load(4, loaded, loadedCounters, status);
+  EXPECT_EQ(loaded.SampleCount(), 2u);
+  EXPECT_EQ(loaded.GetMean(2), 4.0);
+  EXPECT_EQ(loadedCounters.Steps, 9u);
+  EXPECT_EQ(status, 1);
+  cache.Clear();
+  EXPECT_FALSE(cache.CanResume(10, 3, 256, 4096));
+  EXPECT_EQ(cache.MemoryBytes(), 0u);
 }

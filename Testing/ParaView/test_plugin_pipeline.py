@@ -82,3 +82,30 @@ tracer.SurfaceStreamlines = 1  # the probe is a plane: follow the gradient withi
 tracer.UpdatePipeline()
 assert tracer.GetDataInformation().GetNumberOfPoints() > 10
 print("ok: gradient and Hessian arrays, max |z| of the gradient = %.2f" % worst)
+
+# Progressive refinement as in the GUI: the Refine button doubles the walks,
+# only the new ones run, and the output equals one solve with all of them.
+solver.ComputeGradient = 0
+solver.ComputeHessian = 0
+solver.ControlVariates = 0
+solver.WalksPerPoint = 64
+solver.UpdatePipeline()
+assert solver.FieldData["TotalWalks"].GetRange()[0] == 6400
+solver.SMProxy.InvokeCommand("Refine")
+solver.UpdatePipeline()
+assert solver.FieldData["TotalWalks"].GetRange()[0] == 12800
+# Only the new walks ran: ParaView hands the filter a fresh shallow copy of
+# its input at every update, which must not make the kept sums stale.
+assert solver.FieldData["ResumedWalksPerPoint"].GetRange()[0] == 64
+refined = servermanager.Fetch(solver)
+reference = pvs.WalkOnSpheresSolver(Boundary=boundary, Probe=probe)
+reference.BoundaryValues = ["POINTS", "T"]
+reference.WalksPerPoint = 128
+reference.Seed = 5
+reference.ControlVariates = 0
+reference.UpdatePipeline()
+once = servermanager.Fetch(reference)
+for name in ("T", "T_Variance", "WalkSteps"):
+    a, b = refined.GetPointData().GetArray(name), once.GetPointData().GetArray(name)
+    assert all(a.GetTuple1(i) == b.GetTuple1(i) for i in range(a.GetNumberOfTuples())), name
+print("ok: Refine doubled the walks, same numbers as one solve with 128 walks")
