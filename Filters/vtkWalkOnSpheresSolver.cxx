@@ -6,6 +6,8 @@
 #include "GridFreeImplicitBoundary.h"
 #include "GridFreeSourceConversion.h"
 #include "ParallelExecution.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include "RunningStatistics.h"
 #include "RunningSumsCache.h"
 #include "DerivativeWalkOnSpheres.h"
@@ -794,6 +796,21 @@ public:
     auto steps = MakeArray("WalkSteps", 1, numPoints);
     auto escaped = MakeArray("EscapedFraction", 1, numPoints);
     auto truncated = MakeArray("TruncatedFraction", 1, numPoints);
+    // The distance from each point to the boundary (a lower bound for an
+    // implicit boundary): where a walk starts, and how far a streamline may
+    // step without crossing the boundary.
+    auto distance = MakeArray("BoundaryDistance", 1, numPoints);
+    tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, numPoints, 256),
+      [&](const tbb::blocked_range<vtkIdType>& range) {
+        for (vtkIdType i = range.begin(); i < range.end(); ++i)
+        {
+          gridfree::Vec<DIM> x;
+          if (gridfree::ProbeStartPoint<DIM>(points[static_cast<std::size_t>(i)].data(), x))
+          {
+            distance->SetValue(i, geometry.Distance(x));
+          }
+        }
+      });
 
     // Derivatives: the derivative estimator runs whenever a derivative or a
     // control variate is asked for (the value's control needs the gradient).
@@ -1154,6 +1171,7 @@ public:
     pd->AddArray(steps);
     pd->AddArray(escaped);
     pd->AddArray(truncated);
+    pd->AddArray(distance);
     pd->SetActiveScalars(mean->GetName());
     if (anyDerivative)
     {

@@ -446,11 +446,15 @@ public:
    */
   void Modified() override;
 
+  /**
+   * Includes the implicit boundary's MTime: editing it re-executes the solver.
+   */
+  vtkMTimeType GetMTime() override;
+
 protected:
   vtkWalkOnSpheresSolver();
   ~vtkWalkOnSpheresSolver() override;
 
-  vtkMTimeType GetMTime() override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;

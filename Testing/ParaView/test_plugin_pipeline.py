@@ -109,3 +109,21 @@ for name in ("T", "T_Variance", "WalkSteps"):
     a, b = refined.GetPointData().GetArray(name), once.GetPointData().GetArray(name)
     assert all(a.GetTuple1(i) == b.GetTuple1(i) for i in range(a.GetNumberOfTuples())), name
 print("ok: Refine doubled the walks, same numbers as one solve with 128 walks")
+
+# Streamlines of the gradient, estimated only along the lines: the
+# hyperbolas x·y = const of u = x² − y².
+seeds = pvs.PointSource(Center=[0.1, 0.5, 0.0], NumberOfPoints=1, Radius=0.0)
+tracer = pvs.WalkOnSpheresStreamTracer(Boundary=boundary, Seeds=seeds)
+tracer.BoundaryValues = ["POINTS", "T"]
+tracer.StepLength = 0.02
+tracer.StepLengthIsRelative = 0
+tracer.MaximumStreamlineLength = 0.5
+tracer.UpdatePipeline()
+lines = servermanager.Fetch(tracer)
+assert lines.GetNumberOfCells() == 1 and lines.GetNumberOfPoints() > 10
+assert lines.GetCellData().GetArray("ReasonForTermination") is not None
+assert lines.GetPointData().GetVectors().GetName() == "T_Gradient"
+for i in range(lines.GetNumberOfPoints()):
+    x, y, z = lines.GetPoint(i)
+    assert abs(x * y - 0.05) < 0.03 and abs(z) < 0.03, (x, y, z)
+print("ok: stream tracer followed the hyperbola over %d points" % lines.GetNumberOfPoints())

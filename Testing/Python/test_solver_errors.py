@@ -232,6 +232,7 @@ def test_probe_points_on_a_vertex_an_edge_and_a_face():
         for i, value in enumerate(expected):
             assert abs(out.GetArray("T").GetTuple1(i) - value) < 1e-12
             assert out.GetArray("T_Variance").GetTuple1(i) == 0.0
+            assert out.GetArray("BoundaryDistance").GetTuple1(i) < 1e-12
 
 
 def test_bit_array_gives_the_values_0_and_1():

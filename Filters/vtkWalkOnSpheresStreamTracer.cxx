@@ -1,0 +1,614 @@
+#include "vtkWalkOnSpheresStreamTracer.h"
+
+#include "vtkWalkOnSpheresSolver.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkWalkOnSpheresStreamTracer);
+
+namespace
+{
+constexpr int BoundaryPort = 0;
+constexpr int SeedsPort = 1;
+constexpr int SourcePort = 2;
+
+using Point = std::array<double, 3>;
+
+// What the solver estimated at one point: u, ∇u (of the first component)
+// and their variances, and whether the point is closer than epsilon.
+struct Estimate
+{
+  double Value = 0.0;
+  double ValueVariance = 0.0;
+  Point Gradient = { 0.0, 0.0, 0.0 };
+  Point GradientVariance = { 0.0, 0.0, 0.0 };
+  double Distance = 0.0; // to the boundary
+  bool NearBoundary = false;
+  bool Valid = false;
+};
+
+// One streamline: its points, the estimates there, and how it ended.
+struct Line
+{
+  vtkIdType Seed = 0;
+  double Sign = 1.0; // +1 up the gradient, -1 down
+  std::vector<Point> Points;
+  std::vector<Estimate> Estimates;
+  double Length = 0.0;
+  int Reason = 0; // 0 while running
+};
+
+// Collects a solver's error messages so the tracer can report them.
+class MessageCollector : public vtkCommand
+{
+public:
+  static MessageCollector* New() { return new MessageCollector; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (data)
+    {
+      this->Text += static_cast<const char*>(data);
+    }
+  }
+  std::string Text;
+};
+
+// Unit direction s·g/|g|; false where |g| is at most `terminal` or not finite.
+bool UnitDirection(const Estimate& e, double sign, double terminal, Point& d)
+{
+  const double norm = std::sqrt(e.Gradient[0] * e.Gradient[0] + e.Gradient[1] * e.Gradient[1] +
+    e.Gradient[2] * e.Gradient[2]);
+  if (!(norm > terminal) || !std::isfinite(norm))
+  {
+    return false;
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    d[k] = sign * e.Gradient[k] / norm;
+  }
+  return true;
+}
+
+Point Advance(const Point& x, double h, const Point& d)
+{
+  return { x[0] + h * d[0], x[1] + h * d[1], x[2] + h * d[2] };
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkWalkOnSpheresStreamTracer::vtkWalkOnSpheresStreamTracer()
+  : Solver(vtkWalkOnSpheresSolver::New())
+{
+  this->SetNumberOfInputPorts(3);
+  this->SetNumberOfOutputPorts(1);
+  this->Solver->SetWalksPerPoint(1024);
+  this->Solver->SetKeepRunningSums(false); // every stage has new points
+}
+
+vtkWalkOnSpheresStreamTracer::~vtkWalkOnSpheresStreamTracer()
+{
+  this->Solver->Delete();
+}
+
+void vtkWalkOnSpheresStreamTracer::SetBoundaryConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(BoundaryPort, output);
+}
+void vtkWalkOnSpheresStreamTracer::SetBoundaryData(vtkDataObject* data)
+{
+  this->SetInputData(BoundaryPort, data);
+}
+void vtkWalkOnSpheresStreamTracer::SetSeedsConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(SeedsPort, output);
+}
+void vtkWalkOnSpheresStreamTracer::SetSeedsData(vtkDataObject* data)
+{
+  this->SetInputData(SeedsPort, data);
+}
+void vtkWalkOnSpheresStreamTracer::SetSourceConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(SourcePort, output);
+}
+void vtkWalkOnSpheresStreamTracer::SetSourceData(vtkDataObject* data)
+{
+  this->SetInputData(SourcePort, data);
+}
+
+// The shortcuts forward to the solver, whose MTime is part of this one's.
+void vtkWalkOnSpheresStreamTracer::SetWalksPerPoint(int walks)
+{
+  this->Solver->SetWalksPerPoint(walks);
+}
+int vtkWalkOnSpheresStreamTracer::GetWalksPerPoint()
+{
+  return this->Solver->GetWalksPerPoint();
+}
+void vtkWalkOnSpheresStreamTracer::SetEpsilon(double epsilon)
+{
+  this->Solver->SetEpsilon(epsilon);
+}
+double vtkWalkOnSpheresStreamTracer::GetEpsilon()
+{
+  return this->Solver->GetEpsilon();
+}
+void vtkWalkOnSpheresStreamTracer::SetSeed(int seed)
+{
+  this->Solver->SetSeed(seed);
+}
+int vtkWalkOnSpheresStreamTracer::GetSeed()
+{
+  return this->Solver->GetSeed();
+}
+void vtkWalkOnSpheresStreamTracer::SetNumberOfThreads(int threads)
+{
+  this->Solver->SetNumberOfThreads(threads);
+}
+int vtkWalkOnSpheresStreamTracer::GetNumberOfThreads()
+{
+  return this->Solver->GetNumberOfThreads();
+}
+void vtkWalkOnSpheresStreamTracer::SetEquation(int equation)
+{
+  this->Solver->SetEquation(equation);
+}
+int vtkWalkOnSpheresStreamTracer::GetEquation()
+{
+  return this->Solver->GetEquation();
+}
+
+vtkMTimeType vtkWalkOnSpheresStreamTracer::GetMTime()
+{
+  return std::max(this->Superclass::GetMTime(), this->Solver->GetMTime());
+}
+
+//------------------------------------------------------------------------------
+int vtkWalkOnSpheresStreamTracer::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == BoundaryPort)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // an implicit boundary may replace it
+  }
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+    if (port == SourcePort)
+    {
+      info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    }
+  }
+  return 1;
+}
+
+// Every input is needed whole.
+int vtkWalkOnSpheresStreamTracer::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  for (int port = 0; port < 3; ++port)
+  {
+    vtkInformation* info = inputVector[port]->GetInformationObject(0);
+    if (!info)
+    {
+      continue;
+    }
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    if (info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+        info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkWalkOnSpheresStreamTracer::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->LastNumberOfEstimates = 0;
+  vtkDataObject* boundary = vtkDataObject::GetData(inputVector[BoundaryPort], 0);
+  vtkDataSet* seeds = vtkDataSet::GetData(inputVector[SeedsPort], 0);
+  vtkDataSet* source = vtkDataSet::GetData(inputVector[SourcePort], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!seeds || !output)
+  {
+    vtkErrorMacro(<< "No Seeds input: connect a dataset whose points start the lines to port 1.");
+    return 0;
+  }
+  if (seeds->GetNumberOfPoints() == 0)
+  {
+    vtkWarningMacro(<< "The Seeds input has no points: no lines.");
+    return 1;
+  }
+
+  // The box lines must stay in (the boundary's, enlarged by a step), and
+  // the length scale of relative steps.
+  double bounds[6] = { 0, -1, 0, -1, 0, -1 };
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(boundary))
+  {
+    composite->GetBounds(bounds);
+  }
+  else if (auto* poly = vtkPolyData::SafeDownCast(boundary))
+  {
+    poly->GetBounds(bounds);
+  }
+  const bool haveBox = bounds[0] <= bounds[1];
+  if (!haveBox)
+  {
+    seeds->GetBounds(bounds);
+  }
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const double scale = this->StepLengthIsRelative ? (diagonal > 0.0 ? diagonal : 1.0) : 1.0;
+  const double h = this->StepLength * scale;
+  const double maximumLength = this->MaximumPropagation * scale;
+  auto inBox = [&](const Point& p) {
+    if (!haveBox)
+    {
+      return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (!(p[k] >= bounds[2 * k] - h && p[k] <= bounds[2 * k + 1] + h))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+
+  // The solver: this filter's inputs and array selections, gradients on.
+  vtkWalkOnSpheresSolver* solver = this->Solver;
+  solver->SetInputData(0, boundary);
+  solver->SetInputData(2, source);
+  for (int index = 0; index < 3; ++index)
+  {
+    if (vtkInformation* selection = this->GetInputArrayInformation(index))
+    {
+      if (selection->Has(vtkDataObject::FIELD_NAME()) ||
+        selection->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE()))
+      {
+        solver->SetInputArrayToProcess(index, selection);
+      }
+    }
+  }
+  solver->ComputeGradientOn();
+  vtkNew<MessageCollector> errors, warnings;
+  const unsigned long observer = solver->AddObserver(vtkCommand::ErrorEvent, errors);
+  // The solver runs at every stage: its warnings are reported once, below.
+  const unsigned long warningObserver = solver->AddObserver(vtkCommand::WarningEvent, warnings);
+  auto detach = [&]() {
+    solver->RemoveObserver(observer);
+    solver->RemoveObserver(warningObserver);
+  };
+  vtkNew<vtkPolyData> probe;
+
+  // Estimates at `points` (one solver run for all of them); false on error.
+  std::string valueName;
+  auto estimate = [&](const std::vector<Point>& points, std::vector<Estimate>& out) {
+    vtkNew<vtkPoints> coordinates;
+    coordinates->SetDataTypeToDouble();
+    coordinates->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      coordinates->SetPoint(static_cast<vtkIdType>(i), points[i].data());
+    }
+    probe->Initialize();
+    probe->SetPoints(coordinates);
+    solver->SetInputData(1, probe);
+    solver->Modified(); // the probe object is reused: its points changed
+    solver->Update();
+    this->LastNumberOfEstimates += static_cast<vtkIdType>(points.size());
+    vtkDataSet* result = solver->GetOutput();
+    vtkPointData* pd = result ? result->GetPointData() : nullptr;
+    vtkDataArray* value = pd ? pd->GetScalars() : nullptr;
+    if (!errors->Text.empty() || !value)
+    {
+      return false;
+    }
+    valueName = value->GetName() ? value->GetName() : "Solution";
+    vtkDataArray* gradient = pd->GetArray((valueName + "_Gradient").c_str());
+    if (!gradient)
+    {
+      return false;
+    }
+    vtkDataArray* valueVariance = pd->GetArray((valueName + "_Variance").c_str());
+    vtkDataArray* gradientVariance = pd->GetArray((valueName + "_Gradient_Variance").c_str());
+    vtkDataArray* status = pd->GetArray("DerivativeStatus");
+    vtkDataArray* distance = pd->GetArray("BoundaryDistance");
+    out.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      const auto id = static_cast<vtkIdType>(i);
+      Estimate& e = out[i];
+      e.Value = value->GetComponent(id, 0);
+      e.ValueVariance = valueVariance ? valueVariance->GetComponent(id, 0) : 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        e.Gradient[k] = gradient->GetComponent(id, k);
+        e.GradientVariance[k] = gradientVariance ? gradientVariance->GetComponent(id, k) : 0.0;
+      }
+      e.NearBoundary = status && status->GetComponent(id, 0) != 0.0;
+      e.Distance = distance ? distance->GetComponent(id, 0) : VTK_DOUBLE_MAX;
+      e.Valid = std::isfinite(e.Value);
+    }
+    return true;
+  };
+
+  // The lines: one per seed and direction, started at the seeds.
+  std::vector<Line> lines;
+  std::vector<Point> seedPoints(static_cast<std::size_t>(seeds->GetNumberOfPoints()));
+  for (vtkIdType s = 0; s < seeds->GetNumberOfPoints(); ++s)
+  {
+    seeds->GetPoint(s, seedPoints[static_cast<std::size_t>(s)].data());
+  }
+  std::vector<Estimate> seedEstimates;
+  if (!estimate(seedPoints, seedEstimates))
+  {
+    detach();
+    vtkErrorMacro(<< "The solver failed at the seeds: " << errors->Text);
+    return 0;
+  }
+  for (vtkIdType s = 0; s < seeds->GetNumberOfPoints(); ++s)
+  {
+    for (double sign : { 1.0, -1.0 })
+    {
+      if ((sign > 0 && this->IntegrationDirection == BACKWARD) ||
+        (sign < 0 && this->IntegrationDirection == FORWARD))
+      {
+        continue;
+      }
+      Line line;
+      line.Seed = s;
+      line.Sign = sign;
+      line.Points.push_back(seedPoints[static_cast<std::size_t>(s)]);
+      line.Estimates.push_back(seedEstimates[static_cast<std::size_t>(s)]);
+      lines.push_back(std::move(line));
+    }
+  }
+
+  // Checks whether a line can take a step from its last point; sets its
+  // direction there, or ends it with the reason.
+  auto startStep = [&](Line& line, Point& d) {
+    const Estimate& e = line.Estimates.back();
+    if (!e.Valid || !inBox(line.Points.back()))
+    {
+      line.Reason = OUT_OF_DOMAIN;
+    }
+    else if (e.NearBoundary)
+    {
+      line.Reason = CLOSE_TO_BOUNDARY;
+    }
+    else if (!UnitDirection(e, line.Sign, this->TerminalSpeed, d))
+    {
+      line.Reason = STAGNATION;
+    }
+    else if (static_cast<int>(line.Points.size()) > this->MaximumNumberOfSteps)
+    {
+      line.Reason = OUT_OF_STEPS;
+    }
+    else if (line.Length + h > maximumLength * (1.0 + 1e-12))
+    {
+      line.Reason = OUT_OF_LENGTH;
+    }
+    return line.Reason == 0;
+  };
+
+  // A step never leaves the empty ball around the line's point (half its
+  // radius), so no stage crosses the boundary: near it, steps shrink and the
+  // line ends within epsilon of it (CLOSE_TO_BOUNDARY).
+  auto stepOf = [&](const Line& line) {
+    return std::min(h, 0.5 * line.Estimates.back().Distance);
+  };
+
+  // Lockstep integration: each stage estimates at all running lines' stage
+  // points in one solver run.
+  const int stages = this->IntegratorType == RUNGE_KUTTA_4 ? 4 : 2;
+  bool aborted = false;
+  for (int step = 0; step < this->MaximumNumberOfSteps; ++step)
+  {
+    std::vector<std::size_t> running;
+    std::vector<std::array<Point, 4>> k(lines.size());
+    for (std::size_t l = 0; l < lines.size(); ++l)
+    {
+      if (lines[l].Reason == 0 && startStep(lines[l], k[l][0]))
+      {
+        running.push_back(l);
+      }
+    }
+    if (running.empty())
+    {
+      break;
+    }
+    this->UpdateProgress(static_cast<double>(step) / this->MaximumNumberOfSteps);
+    if (this->GetAbortExecute())
+    {
+      aborted = true;
+      break;
+    }
+    // Heun: k2 at x + h k1. RK4: k2 at x + h/2 k1, k3 at x + h/2 k2, k4 at
+    // x + h k3. A stage whose direction is undefined reuses the previous one.
+    for (int stage = 1; stage < stages; ++stage)
+    {
+      const double factor = stages == 2 ? 1.0 : (stage == 3 ? 1.0 : 0.5);
+      std::vector<Point> where(running.size());
+      for (std::size_t r = 0; r < running.size(); ++r)
+      {
+        const std::size_t l = running[r];
+        where[r] = Advance(lines[l].Points.back(), factor * stepOf(lines[l]), k[l][stage - 1]);
+      }
+      std::vector<Estimate> at;
+      if (!estimate(where, at))
+      {
+        detach();
+        vtkErrorMacro(<< "The solver failed along the lines: " << errors->Text);
+        return 0;
+      }
+      for (std::size_t r = 0; r < running.size(); ++r)
+      {
+        const std::size_t l = running[r];
+        if (!UnitDirection(at[r], lines[l].Sign, 0.0, k[l][stage]))
+        {
+          k[l][stage] = k[l][stage - 1];
+        }
+      }
+    }
+    std::vector<Point> next(running.size());
+    for (std::size_t r = 0; r < running.size(); ++r)
+    {
+      const auto& d = k[running[r]];
+      Point direction;
+      for (int c = 0; c < 3; ++c)
+      {
+        direction[c] = stages == 2 ? 0.5 * (d[0][c] + d[1][c])
+                                   : (d[0][c] + 2.0 * d[1][c] + 2.0 * d[2][c] + d[3][c]) / 6.0;
+      }
+      next[r] = Advance(lines[running[r]].Points.back(), stepOf(lines[running[r]]), direction);
+    }
+    std::vector<Estimate> atNext;
+    if (!estimate(next, atNext))
+    {
+      detach();
+      vtkErrorMacro(<< "The solver failed along the lines: " << errors->Text);
+      return 0;
+    }
+    for (std::size_t r = 0; r < running.size(); ++r)
+    {
+      Line& line = lines[running[r]];
+      const Point& from = line.Points.back();
+      const Point& to = next[r];
+      line.Length += std::sqrt((to[0] - from[0]) * (to[0] - from[0]) +
+        (to[1] - from[1]) * (to[1] - from[1]) + (to[2] - from[2]) * (to[2] - from[2]));
+      line.Points.push_back(to);
+      line.Estimates.push_back(atNext[r]);
+    }
+  }
+  detach();
+  for (Line& line : lines)
+  {
+    if (line.Reason == 0)
+    {
+      Point unused;
+      if (startStep(line, unused))
+      {
+        line.Reason = OUT_OF_STEPS;
+      }
+    }
+  }
+  if (aborted)
+  {
+    vtkWarningMacro(<< "Tracing aborted: the lines end where they were.");
+  }
+  if (!warnings->Text.empty())
+  {
+    // The first of them (every stage repeats the same ones).
+    const std::string first = warnings->Text.substr(0, warnings->Text.find("\n\n"));
+    vtkWarningMacro(<< "The solver warned (at every stage): " << first);
+  }
+
+  // Polylines with the estimates along them, as vtkStreamTracer's output.
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> polylines;
+  auto makeArray = [](const std::string& name, int components) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfComponents(components);
+    return vtkSmartPointer<vtkDoubleArray>(a);
+  };
+  auto value = makeArray(valueName, 1);
+  auto valueVariance = makeArray(valueName + "_Variance", 1);
+  auto gradient = makeArray(valueName + "_Gradient", 3);
+  auto gradientVariance = makeArray(valueName + "_Gradient_Variance", 3);
+  auto time = makeArray("IntegrationTime", 1);
+  vtkNew<vtkIntArray> seedIds, reasons;
+  seedIds->SetName("SeedIds");
+  reasons->SetName("ReasonForTermination");
+  for (const Line& line : lines)
+  {
+    if (line.Points.size() < 2)
+    {
+      continue; // vtkStreamTracer drops lines that never left their seed
+    }
+    polylines->InsertNextCell(static_cast<vtkIdType>(line.Points.size()));
+    double arc = 0.0;
+    for (std::size_t i = 0; i < line.Points.size(); ++i)
+    {
+      if (i > 0)
+      {
+        const Point& a = line.Points[i - 1];
+        const Point& b = line.Points[i];
+        arc += std::sqrt(
+          (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+      }
+      polylines->InsertCellPoint(points->InsertNextPoint(line.Points[i].data()));
+      const Estimate& e = line.Estimates[i];
+      value->InsertNextValue(e.Value);
+      valueVariance->InsertNextValue(e.ValueVariance);
+      gradient->InsertNextTuple(e.Gradient.data());
+      gradientVariance->InsertNextTuple(e.GradientVariance.data());
+      time->InsertNextValue(line.Sign * arc);
+    }
+    seedIds->InsertNextValue(static_cast<int>(line.Seed));
+    reasons->InsertNextValue(line.Reason);
+  }
+  output->SetPoints(points);
+  output->SetLines(polylines);
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(value);
+  pd->AddArray(valueVariance);
+  pd->AddArray(gradient);
+  pd->AddArray(gradientVariance);
+  pd->AddArray(time);
+  pd->SetActiveScalars(value->GetName());
+  pd->SetActiveVectors(gradient->GetName());
+  output->GetCellData()->AddArray(seedIds);
+  output->GetCellData()->AddArray(reasons);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkWalkOnSpheresStreamTracer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "StepLength: " << this->StepLength << "\n";
+  os << indent << "StepLengthIsRelative: " << (this->StepLengthIsRelative ? "On" : "Off")
+     << "\n";
+  os << indent << "MaximumNumberOfSteps: " << this->MaximumNumberOfSteps << "\n";
+  os << indent << "MaximumPropagation: " << this->MaximumPropagation << "\n";
+  os << indent << "TerminalSpeed: " << this->TerminalSpeed << "\n";
+  os << indent << "IntegrationDirection: " << this->IntegrationDirection << "\n";
+  os << indent << "IntegratorType: " << this->IntegratorType << "\n";
+  os << indent << "LastNumberOfEstimates: " << this->LastNumberOfEstimates << "\n";
+  os << indent << "Solver:\n";
+  this->Solver->PrintSelf(os, indent.GetNextIndent());
+}
