@@ -42,22 +42,15 @@ const char* vtkSignedDistancePlane::GetParameterProblem()
 //------------------------------------------------------------------------------
 double vtkSignedDistancePlane::EvaluateFunction(double x[3])
 {
-  if (this->GetParameterProblem())
-  {
-    return gridfree::primitive::NaN();
-  }
-  return Core(this).Value(gridfree::primitive::ToVec3(x));
+  return gridfree::primitive::ValueOrNaN(
+    this->GetParameterProblem(), [this] { return Core(this); }, x);
 }
 
 //------------------------------------------------------------------------------
 void vtkSignedDistancePlane::EvaluateGradient(double x[3], double g[3])
 {
-  if (this->GetParameterProblem())
-  {
-    gridfree::primitive::StoreNaN(g);
-    return;
-  }
-  gridfree::primitive::StoreGradient(Core(this).Gradient(gridfree::primitive::ToVec3(x)), g);
+  gridfree::primitive::GradientOrNaN(
+    this->GetParameterProblem(), [this] { return Core(this); }, x, g);
 }
 
 //------------------------------------------------------------------------------

@@ -68,6 +68,27 @@ inline void StoreNaN(double out[3])
   out[0] = out[1] = out[2] = NaN();
 }
 
+// EvaluateFunction of every primitive: NaN while `problem` (its
+// GetParameterProblem()) is set, else the value of the core function that
+// makeCore() builds from the current parameters (only built when valid).
+template <class MakeCore>
+double ValueOrNaN(const char* problem, const MakeCore& makeCore, const double x[3])
+{
+  return problem ? NaN() : makeCore().Value(ToVec3(x));
+}
+
+// EvaluateGradient of every primitive, likewise.
+template <class MakeCore>
+void GradientOrNaN(const char* problem, const MakeCore& makeCore, const double x[3], double g[3])
+{
+  if (problem)
+  {
+    StoreNaN(g);
+    return;
+  }
+  StoreGradient(makeCore().Gradient(ToVec3(x)), g);
+}
+
 inline void StoreBounds(const BoundingBox<3>& box, double bounds[6])
 {
   for (int k = 0; k < 3; ++k)

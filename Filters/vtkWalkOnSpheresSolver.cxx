@@ -928,6 +928,24 @@ public:
       return !self->GetAbortExecute();
     };
 
+    // Copies one point's statistics to the output arrays.
+    auto storePoint = [&](vtkIdType i, const gridfree::RunningStatistics& stats, int valueAt,
+                        int laplacianAt, const gridfree::WalkCounters& counters) {
+      for (int c = 0; c < nc; ++c)
+      {
+        mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
+        variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
+        if (biharmonic)
+        {
+          laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
+          laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
+        }
+      }
+      steps->SetValue(i, counters.MeanSteps());
+      escaped->SetValue(i, counters.EscapedFraction());
+      truncated->SetValue(i, counters.TruncatedFraction());
+    };
+
     bool completed = false;
     if (walkLevel)
     {
@@ -1021,19 +1039,7 @@ public:
           kept.Save(static_cast<std::size_t>(i), stats, counters,
             static_cast<unsigned char>(pointStatus[static_cast<std::size_t>(i)]));
         }
-        for (int c = 0; c < nc; ++c)
-        {
-          mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
-          variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
-          if (biharmonic)
-          {
-            laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
-            laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
-          }
-        }
-        steps->SetValue(i, counters.MeanSteps());
-        escaped->SetValue(i, counters.EscapedFraction());
-        truncated->SetValue(i, counters.TruncatedFraction());
+        storePoint(i, stats, valueAt, laplacianAt, counters);
         if (derivativeWalks)
         {
           const int status = static_cast<int>(pointStatus[static_cast<std::size_t>(i)]);
@@ -1056,22 +1062,10 @@ public:
           gridfree::WalkCounters sum;
           std::array<vtkIdType, 3> counts = { 0, 0, 0 };
           bool bounded = true;
-          // Copies one point's statistics to the output arrays.
+          // Stores a finished point and adds its counters to this range's.
           auto store = [&](std::size_t i, const gridfree::RunningStatistics& stats, int valueAt,
                          int laplacianAt, const gridfree::WalkCounters& counters) {
-            for (int c = 0; c < nc; ++c)
-            {
-              mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
-              variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
-              if (biharmonic)
-              {
-                laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
-                laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
-              }
-            }
-            steps->SetValue(i, counters.MeanSteps());
-            escaped->SetValue(i, counters.EscapedFraction());
-            truncated->SetValue(i, counters.TruncatedFraction());
+            storePoint(static_cast<vtkIdType>(i), stats, valueAt, laplacianAt, counters);
             sum.Add(counters);
           };
           if (derivativeWalks)
