@@ -1,5 +1,7 @@
 #include "vtkWalkOnSpheresSolver.h"
 
+#include "GridFreeWholeInputRequest.h"
+
 #include "Geometry/ImplicitBoundary.h"
 #include "GridFreeBoundaryConversion.h"
 #include "GridFreeCsgBoundary.h"
@@ -800,14 +802,25 @@ public:
     // implicit boundary): where a walk starts, and how far a streamline may
     // step without crossing the boundary.
     auto distance = MakeArray("BoundaryDistance", 1, numPoints);
+    // The boundary value at the closest boundary point: what a walk started
+    // here would return if it ended at once. It is the "albedo" a denoiser is
+    // guided by (paper Sec. 5.2.4): the solution's sharp features follow its
+    // jumps, where the closest point switches between distant boundary parts.
+    auto closestValue = MakeArray(in.Name + "_ClosestBoundaryValue", nc, numPoints);
     tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, numPoints, 256),
       [&](const tbb::blocked_range<vtkIdType>& range) {
+        std::vector<double> g(static_cast<std::size_t>(geometry.Components()));
         for (vtkIdType i = range.begin(); i < range.end(); ++i)
         {
           gridfree::Vec<DIM> x;
           if (gridfree::ProbeStartPoint<DIM>(points[static_cast<std::size_t>(i)].data(), x))
           {
             distance->SetValue(i, geometry.Distance(x));
+            geometry.Evaluate(geometry.ClosestPoint(x), g.data());
+            for (int c = 0; c < nc; ++c)
+            {
+              closestValue->SetTypedComponent(i, c, g[static_cast<std::size_t>(c)]);
+            }
           }
         }
       });
@@ -1166,6 +1179,7 @@ public:
     pd->AddArray(escaped);
     pd->AddArray(truncated);
     pd->AddArray(distance);
+    pd->AddArray(closestValue);
     pd->SetActiveScalars(mean->GetName());
     if (anyDerivative)
     {
@@ -1402,19 +1416,7 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
   // The boundary and the source are needed whole by every piece.
   for (int port : { BoundaryPort, SourcePort })
   {
-    vtkInformation* wholeInfo = inputVector[port]->GetInformationObject(0);
-    if (!wholeInfo)
-    {
-      continue;
-    }
-    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-    if (wholeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-    {
-      wholeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-        wholeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-    }
+    gridfree::RequestWholeInput(inputVector[port]->GetInformationObject(0));
   }
   if (probeInfo)
   {

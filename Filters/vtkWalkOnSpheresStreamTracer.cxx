@@ -2,6 +2,8 @@
 
 #include "vtkWalkOnSpheresSolver.h"
 
+#include "GridFreeMessageCollector.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
@@ -31,9 +33,7 @@ vtkStandardNewMacro(vtkWalkOnSpheresStreamTracer);
 
 namespace
 {
-constexpr int BoundaryPort = 0;
 constexpr int SeedsPort = 1;
-constexpr int SourcePort = 2;
 
 using Point = std::array<double, 3>;
 
@@ -61,21 +61,6 @@ struct Line
   int Reason = 0; // 0 while running
 };
 
-// Collects a solver's error messages so the tracer can report them.
-class MessageCollector : public vtkCommand
-{
-public:
-  static MessageCollector* New() { return new MessageCollector; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    if (data)
-    {
-      this->Text += static_cast<const char*>(data);
-    }
-  }
-  std::string Text;
-};
-
 // Unit direction s·g/|g|; false where |g| is at most `terminal` or not finite.
 bool UnitDirection(const Estimate& e, double sign, double terminal, Point& d)
 {
@@ -100,27 +85,11 @@ Point Advance(const Point& x, double h, const Point& d)
 
 //------------------------------------------------------------------------------
 vtkWalkOnSpheresStreamTracer::vtkWalkOnSpheresStreamTracer()
-  : Solver(vtkWalkOnSpheresSolver::New())
 {
-  this->SetNumberOfInputPorts(3);
-  this->SetNumberOfOutputPorts(1);
+  // A line's noise does not average out along it: many walks by default.
   this->Solver->SetWalksPerPoint(1024);
-  this->Solver->SetKeepRunningSums(false); // every stage has new points
 }
 
-vtkWalkOnSpheresStreamTracer::~vtkWalkOnSpheresStreamTracer()
-{
-  this->Solver->Delete();
-}
-
-void vtkWalkOnSpheresStreamTracer::SetBoundaryConnection(vtkAlgorithmOutput* output)
-{
-  this->SetInputConnection(BoundaryPort, output);
-}
-void vtkWalkOnSpheresStreamTracer::SetBoundaryData(vtkDataObject* data)
-{
-  this->SetInputData(BoundaryPort, data);
-}
 void vtkWalkOnSpheresStreamTracer::SetSeedsConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(SeedsPort, output);
@@ -128,104 +97,6 @@ void vtkWalkOnSpheresStreamTracer::SetSeedsConnection(vtkAlgorithmOutput* output
 void vtkWalkOnSpheresStreamTracer::SetSeedsData(vtkDataObject* data)
 {
   this->SetInputData(SeedsPort, data);
-}
-void vtkWalkOnSpheresStreamTracer::SetSourceConnection(vtkAlgorithmOutput* output)
-{
-  this->SetInputConnection(SourcePort, output);
-}
-void vtkWalkOnSpheresStreamTracer::SetSourceData(vtkDataObject* data)
-{
-  this->SetInputData(SourcePort, data);
-}
-
-// The shortcuts forward to the solver, whose MTime is part of this one's.
-void vtkWalkOnSpheresStreamTracer::SetWalksPerPoint(int walks)
-{
-  this->Solver->SetWalksPerPoint(walks);
-}
-int vtkWalkOnSpheresStreamTracer::GetWalksPerPoint()
-{
-  return this->Solver->GetWalksPerPoint();
-}
-void vtkWalkOnSpheresStreamTracer::SetEpsilon(double epsilon)
-{
-  this->Solver->SetEpsilon(epsilon);
-}
-double vtkWalkOnSpheresStreamTracer::GetEpsilon()
-{
-  return this->Solver->GetEpsilon();
-}
-void vtkWalkOnSpheresStreamTracer::SetSeed(int seed)
-{
-  this->Solver->SetSeed(seed);
-}
-int vtkWalkOnSpheresStreamTracer::GetSeed()
-{
-  return this->Solver->GetSeed();
-}
-void vtkWalkOnSpheresStreamTracer::SetNumberOfThreads(int threads)
-{
-  this->Solver->SetNumberOfThreads(threads);
-}
-int vtkWalkOnSpheresStreamTracer::GetNumberOfThreads()
-{
-  return this->Solver->GetNumberOfThreads();
-}
-void vtkWalkOnSpheresStreamTracer::SetEquation(int equation)
-{
-  this->Solver->SetEquation(equation);
-}
-int vtkWalkOnSpheresStreamTracer::GetEquation()
-{
-  return this->Solver->GetEquation();
-}
-
-vtkMTimeType vtkWalkOnSpheresStreamTracer::GetMTime()
-{
-  return std::max(this->Superclass::GetMTime(), this->Solver->GetMTime());
-}
-
-//------------------------------------------------------------------------------
-int vtkWalkOnSpheresStreamTracer::FillInputPortInformation(int port, vtkInformation* info)
-{
-  if (port == BoundaryPort)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // an implicit boundary may replace it
-  }
-  else
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-    if (port == SourcePort)
-    {
-      info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-    }
-  }
-  return 1;
-}
-
-// Every input is needed whole.
-int vtkWalkOnSpheresStreamTracer::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
-{
-  for (int port = 0; port < 3; ++port)
-  {
-    vtkInformation* info = inputVector[port]->GetInformationObject(0);
-    if (!info)
-    {
-      continue;
-    }
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-    if (info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-    {
-      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-        info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-    }
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -286,22 +157,9 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   };
 
   // The solver: this filter's inputs and array selections, gradients on.
+  this->ConnectSolver(boundary, source);
   vtkWalkOnSpheresSolver* solver = this->Solver;
-  solver->SetInputData(0, boundary);
-  solver->SetInputData(2, source);
-  for (int index = 0; index < 3; ++index)
-  {
-    if (vtkInformation* selection = this->GetInputArrayInformation(index))
-    {
-      if (selection->Has(vtkDataObject::FIELD_NAME()) ||
-        selection->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE()))
-      {
-        solver->SetInputArrayToProcess(index, selection);
-      }
-    }
-  }
-  solver->ComputeGradientOn();
-  vtkNew<MessageCollector> errors, warnings;
+  vtkNew<gridfree::MessageCollector> errors, warnings;
   const unsigned long observer = solver->AddObserver(vtkCommand::ErrorEvent, errors);
   // The solver runs at every stage: its warnings are reported once, below.
   const unsigned long warningObserver = solver->AddObserver(vtkCommand::WarningEvent, warnings);
@@ -529,9 +387,8 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   }
   if (!warnings->Text.empty())
   {
-    // The first of them (every stage repeats the same ones).
-    const std::string first = warnings->Text.substr(0, warnings->Text.find("\n\n"));
-    vtkWarningMacro(<< "The solver warned (at every stage): " << first);
+    // Each distinct one once (every stage repeats the same ones).
+    vtkWarningMacro(<< "The solver warned: " << warnings->Text);
   }
 
   // Polylines with the estimates along them, as vtkStreamTracer's output.
@@ -609,6 +466,4 @@ void vtkWalkOnSpheresStreamTracer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "IntegrationDirection: " << this->IntegrationDirection << "\n";
   os << indent << "IntegratorType: " << this->IntegratorType << "\n";
   os << indent << "LastNumberOfEstimates: " << this->LastNumberOfEstimates << "\n";
-  os << indent << "Solver:\n";
-  this->Solver->PrintSelf(os, indent.GetNextIndent());
 }

@@ -39,17 +39,16 @@
 #define vtkWalkOnSpheresStreamTracer_h
 
 #include "GridFreeFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkWalkOnSpheresSolverDriver.h"
 
 class vtkAlgorithmOutput;
 class vtkDataObject;
-class vtkWalkOnSpheresSolver;
 
-class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresStreamTracer : public vtkPolyDataAlgorithm
+class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresStreamTracer : public vtkWalkOnSpheresSolverDriver
 {
 public:
   static vtkWalkOnSpheresStreamTracer* New();
-  vtkTypeMacro(vtkWalkOnSpheresStreamTracer, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkWalkOnSpheresStreamTracer, vtkWalkOnSpheresSolverDriver);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum Direction
@@ -76,37 +75,12 @@ public:
 
   ///@{
   /**
-   * The inputs by role: Boundary (port 0), Seeds (port 1), Source (port 2).
+   * The seeds (port 1). Boundary (port 0) and Source (port 2): see
+   * vtkWalkOnSpheresSolverDriver, which also holds the solver (GetSolver())
+   * and the shortcuts to its settings.
    */
-  void SetBoundaryConnection(vtkAlgorithmOutput* output);
-  void SetBoundaryData(vtkDataObject* data);
   void SetSeedsConnection(vtkAlgorithmOutput* output);
   void SetSeedsData(vtkDataObject* data);
-  void SetSourceConnection(vtkAlgorithmOutput* output);
-  void SetSourceData(vtkDataObject* data);
-  ///@}
-
-  /**
-   * The solver that estimates u and ∇u at the integrator's points. Set its
-   * equation, walks, epsilon, seed, threads, implicit boundary... here; its
-   * inputs and gradient settings are managed by the tracer.
-   */
-  vtkWalkOnSpheresSolver* GetSolver() { return this->Solver; }
-
-  ///@{
-  /**
-   * Shortcuts to the internal solver's most used settings (ParaView's panel).
-   */
-  void SetWalksPerPoint(int walks);
-  int GetWalksPerPoint();
-  void SetEpsilon(double epsilon);
-  double GetEpsilon();
-  void SetSeed(int seed);
-  int GetSeed();
-  void SetNumberOfThreads(int threads);
-  int GetNumberOfThreads();
-  void SetEquation(int equation);
-  int GetEquation();
   ///@}
 
   ///@{
@@ -164,14 +138,10 @@ public:
 
 protected:
   vtkWalkOnSpheresStreamTracer();
-  ~vtkWalkOnSpheresStreamTracer() override;
+  ~vtkWalkOnSpheresStreamTracer() override = default;
 
-  vtkMTimeType GetMTime() override;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  vtkWalkOnSpheresSolver* Solver; // owned
   double StepLength = 0.01;
   bool StepLengthIsRelative = true;
   int MaximumNumberOfSteps = 200;
