@@ -1,5 +1,7 @@
 #include "vtkMovingLeastSquaresInterpolator.h"
 
+#include "GridFreeArrays.h"
+
 #include "GridFreeWholeInputRequest.h"
 
 #include "GridFreeVisibleNeighbours.h"
@@ -54,26 +56,10 @@ bool Flatten(vtkDataArray* array, vtkIdType n, int components, std::vector<doubl
   {
     return false;
   }
-  out.resize(static_cast<std::size_t>(n) * components);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    for (int c = 0; c < components; ++c)
-    {
-      out[static_cast<std::size_t>(i) * components + c] = array->GetComponent(i, c);
-    }
-  }
+  out = gridfree::ToDoubles(array);
   return true;
 }
 
-vtkSmartPointer<vtkDoubleArray> MakeArray(const std::string& name, int components, vtkIdType n)
-{
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name.c_str());
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(n);
-  array->Fill(std::numeric_limits<double>::quiet_NaN());
-  return array;
-}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -219,9 +205,9 @@ int vtkMovingLeastSquaresInterpolator::RequestData(
   }
 
   const vtkIdType n = target->GetNumberOfPoints();
-  auto value = MakeArray(name, nc, n);
-  auto gradient = MakeArray(name + "_Gradient", 3 * nc, n);
-  auto variance = table.HasVariances ? MakeArray(name + "_Variance", nc, n) : nullptr;
+  auto value = gridfree::MakeArray(name, nc, n);
+  auto gradient = gridfree::MakeArray(name + "_Gradient", 3 * nc, n);
+  auto variance = table.HasVariances ? gridfree::MakeArray(name + "_Variance", nc, n) : nullptr;
   auto used = vtkSmartPointer<vtkIntArray>::New();
   used->SetName("MLSNeighbors");
   used->SetNumberOfTuples(n);
@@ -334,11 +320,8 @@ int vtkMovingLeastSquaresInterpolator::RequestData(
   {
     pd->SetActiveVectors(gradient->GetName());
   }
-  auto seconds = vtkSmartPointer<vtkDoubleArray>::New();
-  seconds->SetName("InterpolationSeconds");
-  seconds->InsertNextValue(
+  gridfree::AddFieldValue(output->GetFieldData(), "InterpolationSeconds",
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  output->GetFieldData()->AddArray(seconds);
   this->UpdateProgress(1.0);
   return 1;
 }

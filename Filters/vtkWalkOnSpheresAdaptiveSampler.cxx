@@ -1,5 +1,7 @@
 #include "vtkWalkOnSpheresAdaptiveSampler.h"
 
+#include "GridFreeArrays.h"
+
 #include "vtkWalkOnSpheresSolver.h"
 
 #include "AdaptiveSampling.h"
@@ -433,16 +435,10 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   this->LastSeconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   vtkFieldData* fd = output->GetFieldData();
-  auto addField = [fd](const char* name, double value) {
-    vtkNew<vtkDoubleArray> array;
-    array->SetName(name);
-    array->InsertNextValue(value);
-    fd->AddArray(array);
-  };
-  addField("TotalWalks", static_cast<double>(this->LastNumberOfWalks));
-  addField("SolveSeconds", solveSeconds);
-  addField("SamplingSeconds", this->LastSeconds);
-  addField("RefinementRounds", this->LastNumberOfRounds);
+  gridfree::AddFieldValue(fd, "TotalWalks", static_cast<double>(this->LastNumberOfWalks));
+  gridfree::AddFieldValue(fd, "SolveSeconds", solveSeconds);
+  gridfree::AddFieldValue(fd, "SamplingSeconds", this->LastSeconds);
+  gridfree::AddFieldValue(fd, "RefinementRounds", this->LastNumberOfRounds);
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -1,5 +1,7 @@
 #include "vtkWalkOnSpheresDenoiser.h"
 
+#include "GridFreeArrays.h"
+
 #include "JointBilateralDenoising.h"
 #include "ParallelExecution.h"
 
@@ -45,19 +47,6 @@ constexpr vtkIdType kSpacingSamples = 1000;
 // Coincident points (duplicates) are skipped when looking for a point's
 // nearest distinct neighbour among this many closest points.
 constexpr int kSpacingCandidates = 8;
-
-// The tuples of `array` as row-major doubles.
-std::vector<double> ToDoubles(vtkDataArray* array)
-{
-  const vtkIdType tuples = array->GetNumberOfTuples();
-  const int components = array->GetNumberOfComponents();
-  std::vector<double> result(static_cast<std::size_t>(tuples) * components);
-  for (vtkIdType t = 0; t < tuples; ++t)
-  {
-    array->GetTuple(t, result.data() + static_cast<std::size_t>(t) * components);
-  }
-  return result;
-}
 
 // Largest (max - min) over the components of a row-major array, ignoring
 // non-finite numbers; 0 when there are none.
@@ -130,15 +119,6 @@ double TypicalSpacing(
   auto middle = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2);
   std::nth_element(distances.begin(), middle, distances.end());
   return *middle;
-}
-
-vtkSmartPointer<vtkDoubleArray> NewArray(const std::string& name, int components, vtkIdType tuples)
-{
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name.c_str());
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(tuples);
-  return array;
 }
 
 // A copy of `array` under another name that shares its memory where the
@@ -305,9 +285,9 @@ int vtkWalkOnSpheresDenoiser::RequestData(
   // values); the locator sees them at the first finite point (or the origin),
   // so that its bins stay finite.
   const std::size_t n = static_cast<std::size_t>(numPoints);
-  const std::vector<double> u = ToDoubles(values);
-  const std::vector<double> v = ToDoubles(variances);
-  const std::vector<double> a = guide ? ToDoubles(guide) : std::vector<double>();
+  const std::vector<double> u = gridfree::ToDoubles(values);
+  const std::vector<double> v = gridfree::ToDoubles(variances);
+  const std::vector<double> a = guide ? gridfree::ToDoubles(guide) : std::vector<double>();
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
   coordinates->SetNumberOfTuples(numPoints);
@@ -374,9 +354,9 @@ int vtkWalkOnSpheresDenoiser::RequestData(
                     << "infinite or negative variance: they are left as they are.");
   }
 
-  auto denoised = NewArray(name, nc, numPoints);
+  auto denoised = gridfree::MakeArray(name, nc, numPoints);
   denoised->CopyComponentNames(values);
-  auto denoisedVariance = NewArray(name + "_Variance", nc, numPoints);
+  auto denoisedVariance = gridfree::MakeArray(name + "_Variance", nc, numPoints);
   double* outValues = denoised->GetPointer(0);
   double* outVariances = denoisedVariance->GetPointer(0);
   const double radius = settings.NeighbourRadius;
@@ -444,9 +424,7 @@ int vtkWalkOnSpheresDenoiser::RequestData(
   {
     pd->SetActiveScalars(name.c_str());
   }
-  auto seconds = NewArray("DenoiseSeconds", 1, 1);
-  seconds->SetValue(0, this->LastDenoiseSeconds);
-  output->GetFieldData()->AddArray(seconds);
+  gridfree::AddFieldValue(output->GetFieldData(), "DenoiseSeconds", this->LastDenoiseSeconds);
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -1,5 +1,7 @@
 #include "vtkWalkOnSpheresSolver.h"
 
+#include "GridFreeArrays.h"
+
 #include "GridFreeWholeInputRequest.h"
 
 #include "Geometry/ImplicitBoundary.h"
@@ -66,6 +68,9 @@ vtkStandardNewMacro(vtkWalkOnSpheresSolver);
 
 namespace
 {
+using gridfree::AddFieldValue;
+using gridfree::MakeArray;
+
 constexpr int BoundaryPort = 0;
 constexpr int ProbePort = 1;
 constexpr int SourcePort = 2;
@@ -134,26 +139,6 @@ bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t s
     done.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
   }
   return true;
-}
-
-vtkSmartPointer<vtkDoubleArray> MakeArray(const std::string& name, int components, vtkIdType tuples)
-{
-  auto array = vtkSmartPointer<vtkDoubleArray>::New();
-  array->SetName(name.c_str());
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(tuples);
-  // Points not reached (abort) stay NaN, never a plausible-looking zero.
-  array->Fill(std::numeric_limits<double>::quiet_NaN());
-  return array;
-}
-
-void AddFieldValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfTuples(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
 }
 
 // The derivative outputs of one solve: gradient (3 per component), Hessian
