@@ -14,6 +14,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -336,7 +337,9 @@ private:
   double PCoords[3] = { 0.0, 0.0, 0.0 };
 };
 
-// One parsed expression in x, y, z (a parser is never shared by threads).
+// One parsed expression in x, y, z (a parser is never shared by threads):
+// a scalar, or a vector written with iHat, jHat and kHat as in VTK's
+// calculator.
 class ParsedExpression
 {
 public:
@@ -346,29 +349,57 @@ public:
     this->Parser->SetScalarVariableValue("x", 0.0);
     this->Parser->SetScalarVariableValue("y", 0.0);
     this->Parser->SetScalarVariableValue("z", 0.0);
-    this->Parser->GetScalarResult(); // parse once, before the walks
+    // Parse once, before the walks.
+    this->IsVector = this->Parser->IsVectorResult() != 0;
     this->X = this->Parser->GetScalarVariableIndex("x");
     this->Y = this->Parser->GetScalarVariableIndex("y");
     this->Z = this->Parser->GetScalarVariableIndex("z");
   }
 
+  // 1 for a scalar expression, 3 for a vector one.
+  int Components() const { return this->IsVector ? 3 : 1; }
+
   double operator()(const std::array<double, 3>& p)
+  {
+    this->SetPoint(p);
+    return this->Parser->GetScalarResult();
+  }
+
+  // Writes Components() numbers.
+  void Evaluate(const std::array<double, 3>& p, double* out)
+  {
+    this->SetPoint(p);
+    if (this->IsVector)
+    {
+      const double* v = this->Parser->GetVectorResult();
+      out[0] = v[0];
+      out[1] = v[1];
+      out[2] = v[2];
+    }
+    else
+    {
+      out[0] = this->Parser->GetScalarResult();
+    }
+  }
+
+private:
+  void SetPoint(const std::array<double, 3>& p)
   {
     this->Parser->SetScalarVariableValue(this->X, p[0]);
     this->Parser->SetScalarVariableValue(this->Y, p[1]);
     this->Parser->SetScalarVariableValue(this->Z, p[2]);
-    return this->Parser->GetScalarResult();
   }
 
-private:
   vtkNew<vtkExprTkFunctionParser> Parser;
+  bool IsVector = false;
   int X = 0, Y = 1, Z = 2;
 };
 
 // An expression in x, y, z; one parser per block of probe points a thread
-// solves. Its gradient is the base class's central differences, with the
-// step the factory sets from the problem's length scale (see
-// VolumeSourceFactory).
+// solves. A scalar expression applies to every component; a vector
+// expression gives its first `components` (at most 3) components. Its
+// gradient is the base class's central differences, with the step the
+// factory sets from the problem's length scale (see VolumeSourceFactory).
 template <int DIM>
 class ExpressionSource : public VolumeSource<DIM>
 {
@@ -382,8 +413,14 @@ public:
 
   void Evaluate(const Vec<DIM>& y, double* f) override
   {
-    const double value = this->Expression(ToXYZ<DIM>(y, this->PlaneZ));
-    std::fill(f, f + this->Components, value);
+    double v[3];
+    this->Expression.Evaluate(ToXYZ<DIM>(y, this->PlaneZ), v);
+    if (this->Expression.Components() == 1)
+    {
+      std::fill(f, f + this->Components, v[0]);
+      return;
+    }
+    std::copy(v, v + this->Components, f);
   }
 
   bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
@@ -392,6 +429,69 @@ private:
   ParsedExpression Expression;
   int Components;
   double PlaneZ;
+};
+
+// A first-order differential operator applied to a vector field source X
+// (DIM or 3 components; ∂/∂z = 0 in 2D): f = ∇·X, or f = ∇×X (3
+// components in 3D, the scalar ∂X_y/∂x − ∂X_x/∂y in 2D). The derivatives
+// are the field's own EvaluateGradient: exact for interpolated data (the
+// derivative of the trilinear or cell interpolant), central differences for
+// expressions. The Helmholtz decomposition's potentials solve Poisson
+// equations with these sources (paper Sec. 6.6).
+template <int DIM>
+class DifferentialOperatorSource : public VolumeSource<DIM>
+{
+public:
+  DifferentialOperatorSource(
+    std::unique_ptr<VolumeSource<DIM>> field, int fieldComponents, SourceOperator op)
+    : Field(std::move(field))
+    , FieldComponents(fieldComponents)
+    , Operator(op)
+    , Value(static_cast<std::size_t>(fieldComponents))
+    , Gradient(static_cast<std::size_t>(fieldComponents) * DIM)
+  {
+  }
+
+  static int ResultComponents(SourceOperator op)
+  {
+    return op == SourceOperator::Curl && DIM == 3 ? 3 : 1;
+  }
+
+  void Evaluate(const Vec<DIM>& y, double* f) override
+  {
+    this->Field->EvaluateGradient(y, this->FieldComponents, this->Value.data(),
+      this->Gradient.data());
+    // J(c, i) = ∂X_c/∂y_i; zero for i ≥ DIM (2D fields do not vary in z)
+    // and for components the field does not have.
+    auto J = [this](int c, int i) {
+      return c < this->FieldComponents && i < DIM ? this->Gradient[c * DIM + i] : 0.0;
+    };
+    if (this->Operator == SourceOperator::Divergence)
+    {
+      f[0] = J(0, 0) + J(1, 1) + J(2, 2);
+    }
+    else if (DIM == 3)
+    {
+      f[0] = J(2, 1) - J(1, 2);
+      f[1] = J(0, 2) - J(2, 0);
+      f[2] = J(1, 0) - J(0, 1);
+    }
+    else
+    {
+      f[0] = J(1, 0) - J(0, 1);
+    }
+  }
+
+  bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const override
+  {
+    return this->Field->SupportBounds(boxMin, boxMax);
+  }
+
+private:
+  std::unique_ptr<VolumeSource<DIM>> Field;
+  int FieldComponents;
+  SourceOperator Operator;
+  std::vector<double> Value, Gradient;
 };
 
 // Several expressions in x, y, z, one per component: boundary values g (and
@@ -642,7 +742,12 @@ bool ConvertConcentrated(vtkPolyData* poly, vtkDataArray* array, int components,
 }
 } // namespace
 
-bool CheckSourceExpression(const std::string& expression, std::string& reason)
+namespace
+{
+// Parses `expression` in x, y, z and tells whether it gives a scalar (1) or a
+// vector (3, with iHat, jHat, kHat); 0 with the parser's first line of
+// message when it does not parse.
+int ExpressionComponents(const std::string& expression, std::string& reason)
 {
   vtkNew<vtkExprTkFunctionParser> parser;
   vtkNew<ErrorCollector> errors;
@@ -651,25 +756,68 @@ bool CheckSourceExpression(const std::string& expression, std::string& reason)
   parser->SetScalarVariableValue("x", 0.0);
   parser->SetScalarVariableValue("y", 0.0);
   parser->SetScalarVariableValue("z", 0.0);
-  if (!parser->IsScalarResult())
+  if (parser->IsScalarResult())
   {
-    reason = errors->Message.empty() ? std::string("it does not evaluate to a scalar")
-                                     : errors->Message;
-    // Keep only the first line of the parser's message.
-    const std::size_t newline = reason.find('\n');
-    if (newline != std::string::npos)
-    {
-      reason.resize(newline);
-    }
-    return false;
+    return 1;
   }
-  return true;
+  if (parser->IsVectorResult())
+  {
+    return 3;
+  }
+  reason = errors->Message.empty() ? std::string("it does not evaluate to a number or a vector")
+                                   : errors->Message;
+  const std::size_t newline = reason.find('\n');
+  if (newline != std::string::npos)
+  {
+    reason.resize(newline);
+  }
+  return 0;
+}
+} // namespace
+
+bool CheckSourceExpression(const std::string& expression, std::string& reason)
+{
+  const int components = ExpressionComponents(expression, reason);
+  if (components == 3)
+  {
+    reason = "it evaluates to a vector, not a number";
+  }
+  return components == 1;
+}
+
+const char* SourceOperatorName(SourceOperator op)
+{
+  switch (op)
+  {
+    case SourceOperator::Divergence:
+      return "divergence";
+    case SourceOperator::Curl:
+      return "curl";
+    default:
+      return "value";
+  }
 }
 
 template <int DIM>
 bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
-  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason)
+  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason,
+  SourceOperator op)
 {
+  const bool differentiate = op != SourceOperator::Value;
+  const int resultComponents =
+    differentiate ? DifferentialOperatorSource<DIM>::ResultComponents(op) : components;
+  if (differentiate && resultComponents != 1 && resultComponents != components)
+  {
+    reason = std::string("the ") + SourceOperatorName(op) + " of the source field has " +
+      std::to_string(resultComponents) + " components; the boundary values have " +
+      std::to_string(components) + " (it needs 1 or as many)";
+    return false;
+  }
+  // Components of the data the source is made from: the solution's, or the
+  // vector field an operator differentiates (taken as it is).
+  int fieldComponents = components;
+  const std::string arrayName = array && array->GetName() ? array->GetName() : "";
+
   VolumeSourceFactory<DIM> dataset;
   if (source && source->GetNumberOfPoints() > 0)
   {
@@ -678,10 +826,21 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
       reason = "the Source input has no point array to use as the source term";
       return false;
     }
-    if (array->GetNumberOfComponents() != 1 && array->GetNumberOfComponents() != components)
+    const int arrayComponents = array->GetNumberOfComponents();
+    if (differentiate)
     {
-      reason = "the source array '" + std::string(array->GetName() ? array->GetName() : "") +
-        "' has " + std::to_string(array->GetNumberOfComponents()) +
+      if (arrayComponents < DIM || arrayComponents > 3)
+      {
+        reason = "the source array '" + arrayName + "' has " + std::to_string(arrayComponents) +
+          " components; its " + SourceOperatorName(op) + " needs a vector field (" +
+          (DIM == 2 ? "2 or 3" : "3") + " components)";
+        return false;
+      }
+      fieldComponents = arrayComponents;
+    }
+    else if (arrayComponents != 1 && arrayComponents != components)
+    {
+      reason = "the source array '" + arrayName + "' has " + std::to_string(arrayComponents) +
         " components; it needs 1 or as many as the boundary values (" +
         std::to_string(components) + ")";
       return false;
@@ -690,8 +849,8 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     {
       // Values are read one tuple per point: a shorter array would be read
       // past its end.
-      reason = "the source array '" + std::string(array->GetName() ? array->GetName() : "") +
-        "' has " + std::to_string(array->GetNumberOfTuples()) + " tuples, but the Source input has " +
+      reason = "the source array '" + arrayName + "' has " +
+        std::to_string(array->GetNumberOfTuples()) + " tuples, but the Source input has " +
         std::to_string(source->GetNumberOfPoints()) + " points";
       return false;
     }
@@ -708,6 +867,12 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     }
     if (auto* poly = vtkPolyData::SafeDownCast(source))
     {
+      if (differentiate && poly->GetNumberOfCells() > 0)
+      {
+        reason = std::string("point and curve sources (a vtkPolyData Source) have no ") +
+          SourceOperatorName(op) + "; give the vector field on an image or another dataset";
+        return false;
+      }
       if (!ConvertConcentrated<DIM>(poly, array, components, out, reason))
       {
         return false;
@@ -715,25 +880,43 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     }
     else if (auto* image = vtkImageData::SafeDownCast(source))
     {
-      dataset = MakeImageSource<DIM>(image, array, components, planeZ);
+      dataset = MakeImageSource<DIM>(image, array, fieldComponents, planeZ);
     }
     else
     {
-      dataset = MakeDataSetSource<DIM>(source, array, components, planeZ);
+      dataset = MakeDataSetSource<DIM>(source, array, fieldComponents, planeZ);
     }
   }
 
   VolumeSourceFactory<DIM> parsed;
   if (!expression.empty())
   {
-    if (!CheckSourceExpression(expression, reason))
+    const int expressionComponents = ExpressionComponents(expression, reason);
+    if (expressionComponents == 0)
     {
       reason = "the SourceExpression '" + expression + "' does not parse: " + reason;
       return false;
     }
-    parsed = [expression, components, planeZ](
+    if (differentiate && expressionComponents != 3)
+    {
+      reason = "the SourceExpression '" + expression + "' is a number; its " +
+        SourceOperatorName(op) + " needs a vector field, written with iHat, jHat and kHat " +
+        "(e.g. 'y*iHat - x*jHat')";
+      return false;
+    }
+    if (!differentiate && expressionComponents == 3 && components != 3)
+    {
+      reason = "the SourceExpression '" + expression + "' is a vector; the boundary values have " +
+        std::to_string(components) + " components (a vector source needs 3)";
+      return false;
+    }
+    if (!dataset)
+    {
+      fieldComponents = differentiate ? 3 : components;
+    }
+    parsed = [expression, fieldComponents, planeZ](
                double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
-      auto volume = std::make_unique<ExpressionSource<DIM>>(expression, components, planeZ);
+      auto volume = std::make_unique<ExpressionSource<DIM>>(expression, fieldComponents, planeZ);
       // Central differences with a step of 1e-5 of the problem's size:
       // small against the domain, large against rounding for points within
       // a few diagonals of it. Without a length scale the base class's step,
@@ -747,17 +930,30 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     };
   }
 
+  VolumeSourceFactory<DIM> field;
   if (dataset && parsed)
   {
-    out.MakeVolume = [dataset, parsed, components](
-                       double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
+    field = [dataset, parsed, fieldComponents](
+              double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
       return std::make_unique<SumSource<DIM>>(
-        dataset(lengthScale), parsed(lengthScale), components);
+        dataset(lengthScale), parsed(lengthScale), fieldComponents);
     };
   }
   else
   {
-    out.MakeVolume = dataset ? dataset : parsed;
+    field = dataset ? dataset : parsed;
+  }
+  if (field && differentiate)
+  {
+    out.MakeVolume = [field, fieldComponents, op](
+                       double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
+      return std::make_unique<DifferentialOperatorSource<DIM>>(
+        field(lengthScale), fieldComponents, op);
+    };
+  }
+  else
+  {
+    out.MakeVolume = field;
   }
   return true;
 }
@@ -777,7 +973,7 @@ template std::function<std::unique_ptr<VolumeSource<3>>()> MakeExpressionListFac
   const std::vector<std::string>&, double);
 
 template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
-  SourceDescription<2>&, std::string&);
+  SourceDescription<2>&, std::string&, SourceOperator);
 template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
-  SourceDescription<3>&, std::string&);
+  SourceDescription<3>&, std::string&, SourceOperator);
 } // namespace gridfree

@@ -56,19 +56,36 @@ struct SourceDescription
   }
 };
 
+// What the source term f is made of the given data: the data themselves, or
+// the divergence or curl of a vector field (2D: the scalar curl
+// ∂X_y/∂x − ∂X_x/∂y). Values match vtkWalkOnSpheresSolver's SourceOperator.
+enum class SourceOperator
+{
+  Value = 0,
+  Divergence = 1,
+  Curl = 2
+};
+
+// "value", "divergence" or "curl", for messages.
+const char* SourceOperatorName(SourceOperator op);
+
 // Builds the source terms from an optional dataset with its point array and
 // an optional expression, for a solution with `components` components (a
-// one-component source applies to every component). In 2D, datasets and
-// expressions are sampled in the plane z = planeZ. Returns false with a
-// reason when the inputs cannot be used.
+// one-component source applies to every component). Expressions may be
+// scalars or vectors (iHat, jHat, kHat). With an operator, the array (DIM or
+// 3 components) or the vector expression is a field X and f is its
+// divergence or curl. In 2D, datasets and expressions are sampled in the
+// plane z = planeZ. Returns false with a reason when the inputs cannot be
+// used.
 template <int DIM>
 bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
-  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason);
+  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason,
+  SourceOperator op = SourceOperator::Value);
 
 extern template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int,
-  double, SourceDescription<2>&, std::string&);
+  double, SourceDescription<2>&, std::string&, SourceOperator);
 extern template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int,
-  double, SourceDescription<3>&, std::string&);
+  double, SourceDescription<3>&, std::string&, SourceOperator);
 
 // Makes one thread's source of len(expressions) components, component c
 // being expressions[c] in x, y, z (in 2D sampled in the plane z = planeZ).
@@ -83,7 +100,7 @@ extern template std::function<std::unique_ptr<VolumeSource<3>>()> MakeExpression
   const std::vector<std::string>&, double);
 
 // Checks that an expression in x, y, z parses to a scalar; returns false
-// with the parser's message otherwise.
+// with the parser's message (or the reason a vector is refused) otherwise.
 bool CheckSourceExpression(const std::string& expression, std::string& reason);
 } // namespace gridfree
 

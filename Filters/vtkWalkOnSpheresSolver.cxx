@@ -735,8 +735,9 @@ public:
     gridfree::SourceDescription<DIM> sources;
     if (gridfree::WalkOnSpheresEstimator<DIM>::UsesSources(settings.Problem))
     {
-      if (!gridfree::ConvertSource<DIM>(
-            in.Source, in.SourceArray, in.Expression, nc, PlaneZ(in), sources, reason))
+      if (!gridfree::ConvertSource<DIM>(in.Source, in.SourceArray, in.Expression, nc,
+            PlaneZ(in), sources, reason,
+            static_cast<gridfree::SourceOperator>(self->SourceOperator)))
       {
         vtkErrorWithObjectMacro(self, << "Cannot use the source term: " << reason << ".");
         return false;
@@ -1913,6 +1914,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SourceExpression: "
      << (this->SourceExpression ? this->SourceExpression : "(none)") << "\n";
   os << indent << "SourceSampling: " << this->SourceSampling << "\n";
+  os << indent << "SourceOperator: " << this->SourceOperator << "\n";
   os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
   os << indent << "NestedWalks: " << this->NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";

@@ -247,10 +247,41 @@ public:
   /**
    * A source term f(x, y, z) added to the Source input's, in the syntax of
    * VTK's ExprTk function parser, e.g. "exp(-(x^2+y^2+z^2))" (default empty:
-   * none). Used by the Poisson and screened Poisson equations.
+   * none). Used by the Poisson and screened Poisson equations. A vector
+   * written with iHat, jHat and kHat as in VTK's calculator (e.g.
+   * "y*iHat - x*jHat") gives one source per component of a 3-component
+   * solution, or the vector field X of SourceOperator.
    */
   vtkSetStringMacro(SourceExpression);
   vtkGetStringMacro(SourceExpression);
+  ///@}
+
+  enum SourceOperatorType
+  {
+    SOURCE_VALUE = 0,
+    SOURCE_DIVERGENCE = 1,
+    SOURCE_CURL = 2
+  };
+
+  ///@{
+  /**
+   * What the source term f is made of the source data (the Source input's
+   * array and SourceExpression): SOURCE_VALUE, the data themselves (the
+   * default); SOURCE_DIVERGENCE, f = ∇·X of the vector field X they give
+   * (an array of 2 or 3 components in 2D, 3 in 3D, or a vector expression);
+   * SOURCE_CURL, f = ∇×X (3 components in 3D, for a 3-component solution;
+   * the scalar ∂X_y/∂x − ∂X_x/∂y in 2D). Derivatives are exact for data
+   * (those of the trilinear or cell interpolant; an image's field drops to
+   * zero outside the image, so the image must cover the domain) and central
+   * differences for expressions. The Helmholtz decomposition
+   * (vtkWalkOnSpheresHelmholtzDecomposition) solves its potentials this way.
+   * Point and curve sources (a vtkPolyData Source) have no operator.
+   */
+  vtkSetClampMacro(SourceOperator, int, SOURCE_VALUE, SOURCE_CURL);
+  vtkGetMacro(SourceOperator, int);
+  void SetSourceOperatorToValue() { this->SetSourceOperator(SOURCE_VALUE); }
+  void SetSourceOperatorToDivergence() { this->SetSourceOperator(SOURCE_DIVERGENCE); }
+  void SetSourceOperatorToCurl() { this->SetSourceOperator(SOURCE_CURL); }
   ///@}
 
   enum SourceSamplingType
@@ -475,6 +506,7 @@ protected:
   double ScreeningCoefficient = 1.0;
   char* SourceExpression = nullptr;
   int SourceSampling = GREENS_FUNCTION;
+  int SourceOperator = SOURCE_VALUE;
   int BiharmonicStrategy = TREE_WALKING;
   int NestedWalks = 1;
   int WalksPerPoint = 128;

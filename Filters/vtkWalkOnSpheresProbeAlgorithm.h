@@ -1,0 +1,148 @@
+/**
+ * @class   vtkWalkOnSpheresProbeAlgorithm
+ * @brief   Base of the application filters (Helmholtz decomposition, cross
+ *          fields, deformation) that solve with walk on spheres inside a
+ *          Boundary and give their results on a Probe dataset.
+ *
+ * Input 0 ("Boundary") is a vtkPolyData: triangles or polygons for a 3D
+ * domain, lines (or Bézier control polygons, see vtkWalkOnSpheresSolver) in
+ * one z-plane for a 2D one. Input 1 ("Probe") is any vtkDataSet; output 0 is
+ * a copy of it (same type, structure and arrays) with the results added.
+ * Further inputs and outputs belong to the subclass.
+ *
+ * The sampling settings here (walks, ε, steps, seed, threads) configure the
+ * internal vtkWalkOnSpheresSolver runs the subclass makes; each run is a new
+ * solver, so the filter's modification time is its own. Progress of the runs
+ * is reported as this filter's, and aborting this filter aborts them.
+ *
+ * @sa vtkWalkOnSpheresSolver vtkWalkOnSpheresHelmholtzDecomposition
+ */
+#ifndef vtkWalkOnSpheresProbeAlgorithm_h
+#define vtkWalkOnSpheresProbeAlgorithm_h
+
+#include "vtkDataSetAlgorithm.h"
+#include "GridFreeFiltersModule.h" // for export macro
+
+#include <string>
+
+class vtkAlgorithmOutput;
+class vtkDataObject;
+class vtkWalkOnSpheresSolver;
+
+class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresProbeAlgorithm : public vtkDataSetAlgorithm
+{
+public:
+  vtkTypeMacro(vtkWalkOnSpheresProbeAlgorithm, vtkDataSetAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The Boundary (port 0) and the Probe (port 1).
+   */
+  void SetBoundaryConnection(vtkAlgorithmOutput* output);
+  void SetBoundaryData(vtkDataObject* data);
+  void SetProbeConnection(vtkAlgorithmOutput* output);
+  void SetProbeData(vtkDataObject* data);
+  ///@}
+
+  ///@{
+  /**
+   * Random walks per probe point for each solve (default 256, at least 2).
+   */
+  vtkSetClampMacro(WalksPerPoint, int, 2, VTK_INT_MAX);
+  vtkGetMacro(WalksPerPoint, int);
+  ///@}
+
+  ///@{
+  /**
+   * Walks stop within Epsilon of the boundary (default 1e-4), relative to
+   * the boundary's bounding-box diagonal unless EpsilonIsRelative is off.
+   */
+  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Epsilon, double);
+  vtkSetMacro(EpsilonIsRelative, bool);
+  vtkGetMacro(EpsilonIsRelative, bool);
+  vtkBooleanMacro(EpsilonIsRelative, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Steps after which a walk is ended and counted (default 10000).
+   */
+  vtkSetClampMacro(MaxSteps, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MaxSteps, int);
+  ///@}
+
+  ///@{
+  /**
+   * Seed of the random streams (default 0). Results depend on the seed and
+   * the points' coordinates only, never on the thread count.
+   */
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /**
+   * Threads for the walks (default 0: all).
+   */
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /**
+   * Walks and seconds of the last execution, over all its solves.
+   */
+  vtkGetMacro(LastNumberOfWalks, vtkIdType);
+  vtkGetMacro(LastSolveSeconds, double);
+  ///@}
+
+protected:
+  vtkWalkOnSpheresProbeAlgorithm();
+  ~vtkWalkOnSpheresProbeAlgorithm() override;
+
+  static constexpr int BoundaryPort = 0;
+  static constexpr int ProbePort = 1;
+
+  // Port 0: vtkPolyData; port 1: vtkDataSet; other ports: an optional
+  // vtkDataSet.
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  // Output 0 takes the probe's type; other outputs the type their port
+  // information names (vtkPolyData by default).
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // The probe is split as output 0 is; every other input is needed whole.
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // Copies the sampling settings to `solver`.
+  void ConfigureSolver(vtkWalkOnSpheresSolver* solver);
+
+  // Updates `solver`, reporting its progress as [begin, end] of this
+  // filter's and passing this filter's abort on. Adds its walks and seconds
+  // to the Last... counters (the subclass resets them). Returns false, after reporting the solver's errors as this filter's,
+  // when it failed or was aborted (`aborted` tells which). Its warnings are
+  // reported once each.
+  bool RunSolver(vtkWalkOnSpheresSolver* solver, double begin, double end, bool& aborted);
+
+  // Adds the Last... counters to `output`'s field data (TotalWalks,
+  // SolveSeconds).
+  void AddSummary(vtkDataObject* output);
+
+  int WalksPerPoint = 256;
+  double Epsilon = 1e-4;
+  bool EpsilonIsRelative = true;
+  int MaxSteps = 10000;
+  int Seed = 0;
+  int NumberOfThreads = 0;
+
+  vtkIdType LastNumberOfWalks = 0;
+  double LastSolveSeconds = 0.0;
+
+private:
+  vtkWalkOnSpheresProbeAlgorithm(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
+  void operator=(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
+};
+
+#endif
