@@ -1,0 +1,439 @@
+#include "vtkWalkOnSpheresCrossField.h"
+
+#include "CrossField.h"
+#include "GridFreeArrays.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkWalkOnSpheresSolver.h"
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkWalkOnSpheresCrossField);
+
+namespace
+{
+const char* const kPsi = "CrossField";
+
+struct Segment
+{
+  gridfree::Vec2 A, B;
+};
+
+// The boundary's line segments (polylines split), without zero-length ones.
+std::vector<Segment> SegmentsOf(vtkPolyData* boundary)
+{
+  std::vector<Segment> segments;
+  auto lines = vtk::TakeSmartPointer(boundary->GetLines()->NewIterator());
+  for (lines->GoToFirstCell(); !lines->IsDoneWithTraversal(); lines->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    lines->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 1 < n; ++k)
+    {
+      double a[3], b[3];
+      boundary->GetPoint(ids[k], a);
+      boundary->GetPoint(ids[k + 1], b);
+      Segment s{ gridfree::Vec2(a[0], a[1]), gridfree::Vec2(b[0], b[1]) };
+      if ((s.B - s.A).norm() > 0.0)
+      {
+        segments.push_back(s);
+      }
+    }
+  }
+  return segments;
+}
+
+// Even-odd rule: inside the region the closed polylines bound.
+bool Inside(const std::vector<Segment>& segments, const gridfree::Vec2& p)
+{
+  bool inside = false;
+  for (const Segment& s : segments)
+  {
+    if ((s.A.y() > p.y()) != (s.B.y() > p.y()))
+    {
+      const double x = s.A.x() + (p.y() - s.A.y()) / (s.B.y() - s.A.y()) * (s.B.x() - s.A.x());
+      inside = x > p.x() ? !inside : inside;
+    }
+  }
+  return inside;
+}
+
+// Radical inverse in base b: the Halton sequence spreads the seeds evenly.
+double RadicalInverse(unsigned long long index, unsigned base)
+{
+  double result = 0.0, scale = 1.0 / base;
+  for (; index > 0; index /= base, scale /= base)
+  {
+    result += static_cast<double>(index % base) * scale;
+  }
+  return result;
+}
+} // namespace
+
+vtkWalkOnSpheresCrossField::vtkWalkOnSpheresCrossField()
+{
+  this->SetNumberOfOutputPorts(3);
+}
+
+vtkWalkOnSpheresCrossField::~vtkWalkOnSpheresCrossField() = default;
+
+int vtkWalkOnSpheresCrossField::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->LastNumberOfWalks = 0;
+  this->LastSolveSeconds = 0.0;
+  this->LastNumberOfEstimates = 0;
+  vtkPolyData* boundary = vtkPolyData::GetData(inputVector[BoundaryPort], 0);
+  vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
+  vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
+  vtkPolyData* singularityOutput = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* separatrixOutput = vtkPolyData::GetData(outputVector, 2);
+  if (!probe || !output)
+  {
+    vtkErrorMacro(<< "No Probe: connect the dataset to draw crosses on to port 1.");
+    return 0;
+  }
+  output->CopyStructure(probe);
+  output->GetPointData()->PassData(probe->GetPointData());
+  output->GetCellData()->PassData(probe->GetCellData());
+  output->GetFieldData()->PassData(probe->GetFieldData());
+  if (!boundary || boundary->GetNumberOfLines() == 0 ||
+    boundary->GetNumberOfPolys() + boundary->GetNumberOfStrips() > 0)
+  {
+    vtkErrorMacro(<< "The Boundary must be closed polylines in one z-plane (a 2D domain): "
+                  << (boundary ? "it has no lines or has polygons." : "none is connected."));
+    return 0;
+  }
+  const std::vector<Segment> segments = SegmentsOf(boundary);
+  if (segments.empty())
+  {
+    vtkErrorMacro(<< "The Boundary's lines have no segment of non-zero length.");
+    return 0;
+  }
+  double bounds[6];
+  boundary->GetBounds(bounds);
+  const double z0 = bounds[4];
+  if (bounds[5] - bounds[4] > 1e-9 * (1.0 + std::abs(z0)))
+  {
+    vtkErrorMacro(<< "The Boundary's lines are not in one z-plane (z from " << bounds[4]
+                  << " to " << bounds[5] << "): cross fields are 2D.");
+    return 0;
+  }
+  const double diagonal = std::hypot(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+
+  // The solver's boundary: one line per segment, carrying ν⁴ as cell data
+  // (each segment's own normal, so corners are exact).
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  auto nu4 = gridfree::MakeArray(kPsi, 2, static_cast<vtkIdType>(segments.size()));
+  for (std::size_t k = 0; k < segments.size(); ++k)
+  {
+    const Segment& s = segments[k];
+    const vtkIdType a = points->InsertNextPoint(s.A.x(), s.A.y(), z0);
+    const vtkIdType b = points->InsertNextPoint(s.B.x(), s.B.y(), z0);
+    const vtkIdType ids[2] = { a, b };
+    lines->InsertNextCell(2, ids);
+    const gridfree::Vec2 d = s.B - s.A;
+    const std::complex<double> value = gridfree::EncodeNormalFourth(gridfree::Vec2(d.y(), -d.x()));
+    nu4->SetComponent(static_cast<vtkIdType>(k), 0, value.real());
+    nu4->SetComponent(static_cast<vtkIdType>(k), 1, value.imag());
+  }
+  vtkNew<vtkPolyData> encoded;
+  encoded->SetPoints(points);
+  encoded->SetLines(lines);
+  encoded->GetCellData()->AddArray(nu4);
+
+  // One solve of ψ and ∇ψ at `where`, with `walks` walks per point.
+  auto solve = [&](vtkDataSet* where, int walks, double begin, double end,
+                 vtkSmartPointer<vtkDataSet>& result) {
+    vtkNew<vtkWalkOnSpheresSolver> solver;
+    this->ConfigureSolver(solver);
+    solver->SetWalksPerPoint(walks);
+    solver->SetInputData(0, encoded);
+    solver->SetInputData(1, where);
+    solver->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
+    solver->ComputeGradientOn();
+    bool aborted = false;
+    if (!this->RunSolver(solver, begin, end, aborted))
+    {
+      return false;
+    }
+    result = solver->GetOutput();
+    return true;
+  };
+
+  // The probe: ψ and the four directions.
+  const bool search = this->SearchSingularities;
+  vtkSmartPointer<vtkDataSet> solved;
+  if (probe->GetNumberOfPoints() > 0)
+  {
+    if (!solve(probe, this->WalksPerPoint, 0.0, search ? 0.3 : 1.0, solved))
+    {
+      return this->CheckAbort() ? 1 : 0;
+    }
+    vtkPointData* pd = solved->GetPointData();
+    vtkDataArray* psi = pd->GetArray(kPsi);
+    for (const std::string suffix : { "", "_Variance", "_Gradient", "_Gradient_Variance" })
+    {
+      if (vtkDataArray* a = pd->GetArray((kPsi + suffix).c_str()))
+      {
+        output->GetPointData()->AddArray(a);
+      }
+    }
+    const vtkIdType n = probe->GetNumberOfPoints();
+    std::array<vtkSmartPointer<vtkDoubleArray>, 4> directions;
+    for (int k = 0; k < 4; ++k)
+    {
+      directions[k] = gridfree::MakeArray("CrossDirection" + std::to_string(k + 1), 3, n);
+    }
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      std::array<gridfree::Vec2, 4> cross;
+      const bool defined = gridfree::CrossDirections(
+        std::complex<double>(psi->GetComponent(i, 0), psi->GetComponent(i, 1)), cross);
+      for (int k = 0; k < 4; ++k)
+      {
+        const double v[3] = { defined ? cross[k].x() : 0.0, defined ? cross[k].y() : 0.0, 0.0 };
+        directions[k]->SetTuple(i, v);
+      }
+    }
+    for (const auto& d : directions)
+    {
+      output->GetPointData()->AddArray(d);
+    }
+    output->GetPointData()->SetActiveVectors("CrossDirection1");
+  }
+
+  if (search)
+  {
+    // The evaluator of the core's search and tracing: one solve per batch,
+    // each taking a twentieth of the remaining progress of its phase.
+    double progress = 0.3, phaseEnd = 0.7;
+    bool failed = false;
+    gridfree::CrossFieldEvaluator evaluate = [&](const std::vector<gridfree::Vec2>& where,
+                                               std::vector<gridfree::CrossFieldSample>& out) {
+      if (failed || this->CheckAbort())
+      {
+        return false;
+      }
+      vtkNew<vtkPoints> batchPoints;
+      batchPoints->SetDataTypeToDouble();
+      for (const gridfree::Vec2& p : where)
+      {
+        batchPoints->InsertNextPoint(p.x(), p.y(), z0);
+      }
+      vtkNew<vtkPolyData> batch;
+      batch->SetPoints(batchPoints);
+      const double next = progress + 0.05 * (phaseEnd - progress);
+      vtkSmartPointer<vtkDataSet> result;
+      if (!solve(batch, this->SearchWalksPerPoint, progress, next, result))
+      {
+        failed = true;
+        return false;
+      }
+      progress = next;
+      this->LastNumberOfEstimates += static_cast<vtkIdType>(where.size());
+      vtkPointData* pd = result->GetPointData();
+      vtkDataArray* psi = pd->GetArray(kPsi);
+      vtkDataArray* variance = pd->GetArray((std::string(kPsi) + "_Variance").c_str());
+      vtkDataArray* gradient = pd->GetArray((std::string(kPsi) + "_Gradient").c_str());
+      vtkDataArray* distance = pd->GetArray("BoundaryDistance");
+      if (!psi || !variance || !gradient || !distance)
+      {
+        failed = true;
+        return false;
+      }
+      out.resize(where.size());
+      for (std::size_t i = 0; i < where.size(); ++i)
+      {
+        const vtkIdType id = static_cast<vtkIdType>(i);
+        gridfree::CrossFieldSample& s = out[i];
+        s.Psi = std::complex<double>(psi->GetComponent(id, 0), psi->GetComponent(id, 1));
+        s.GradRe = gridfree::Vec2(gradient->GetComponent(id, 0), gradient->GetComponent(id, 1));
+        s.GradIm = gridfree::Vec2(gradient->GetComponent(id, 3), gradient->GetComponent(id, 4));
+        s.PsiVariance = variance->GetComponent(id, 0) + variance->GetComponent(id, 1);
+        s.BoundaryDistance = distance->GetComponent(id, 0);
+        s.Valid = Inside(segments, where[i]);
+      }
+      return true;
+    };
+
+    // Seeds: a Halton sequence over the boundary's box, inside points only.
+    std::vector<gridfree::Vec2> seeds;
+    const unsigned long long start =
+      1 + static_cast<unsigned long long>(static_cast<unsigned>(this->Seed)) * 7919ULL;
+    for (unsigned long long k = 0;
+         static_cast<int>(seeds.size()) < this->NumberOfSeeds && k < 1000ULL * this->NumberOfSeeds;
+         ++k)
+    {
+      const gridfree::Vec2 p(bounds[0] + (bounds[1] - bounds[0]) * RadicalInverse(start + k, 2),
+        bounds[2] + (bounds[3] - bounds[2]) * RadicalInverse(start + k, 3));
+      if (Inside(segments, p))
+      {
+        seeds.push_back(p);
+      }
+    }
+
+    gridfree::SingularitySettings settings;
+    settings.MaxIterations = this->MaximumSearchSteps;
+    settings.InitialStep = 0.01 * diagonal;
+    settings.MaxStep = 0.1 * diagonal;
+    settings.MinStep = 1e-6 * diagonal;
+    settings.MergeRadius = this->MergeRadius * diagonal;
+    settings.IndexRadius = this->IndexRadius * diagonal;
+    gridfree::SingularitySearchStatistics searchStatistics;
+    const std::vector<gridfree::Singularity> singularities =
+      gridfree::FindSingularities(evaluate, seeds, settings, &searchStatistics);
+    if (searchStatistics.Aborted)
+    {
+      if (!this->CheckAbort())
+      {
+        return 0; // the solver's error was reported
+      }
+      vtkWarningMacro(<< "Singularity search aborted: no singularities or separatrices.");
+      return 1;
+    }
+
+    vtkNew<vtkPoints> singularityPoints;
+    singularityPoints->SetDataTypeToDouble();
+    vtkNew<vtkCellArray> vertices;
+    vtkNew<vtkIntArray> index, seedCount;
+    index->SetName("Index");
+    seedCount->SetName("SeedCount");
+    auto residual = gridfree::MakeArray("IndexResidual", 1, 0);
+    auto magnitude = gridfree::MakeArray("PsiMagnitude", 1, 0);
+    auto radius = gridfree::MakeArray("IndexRadius", 1, 0);
+    for (const gridfree::Singularity& s : singularities)
+    {
+      const vtkIdType id = singularityPoints->InsertNextPoint(s.Position.x(), s.Position.y(), z0);
+      vertices->InsertNextCell(1, &id);
+      index->InsertNextValue(s.Index);
+      seedCount->InsertNextValue(s.SeedCount);
+      residual->InsertNextValue(s.IndexResidual);
+      magnitude->InsertNextValue(s.PsiMagnitude);
+      radius->InsertNextValue(s.Radius);
+    }
+    singularityOutput->SetPoints(singularityPoints);
+    singularityOutput->SetVerts(vertices);
+    for (vtkDataArray* a : { static_cast<vtkDataArray*>(index), static_cast<vtkDataArray*>(residual),
+           static_cast<vtkDataArray*>(magnitude), static_cast<vtkDataArray*>(seedCount),
+           static_cast<vtkDataArray*>(radius) })
+    {
+      singularityOutput->GetPointData()->AddArray(a);
+    }
+    singularityOutput->GetPointData()->SetActiveScalars("Index");
+    // How the seeds ended, for judging a search that found nothing.
+    vtkFieldData* fd = singularityOutput->GetFieldData();
+    gridfree::AddFieldValue(fd, "Seeds", static_cast<double>(seeds.size()));
+    gridfree::AddFieldValue(fd, "SeedsConverged", searchStatistics.SeedsConverged);
+    gridfree::AddFieldValue(fd, "SeedsStalled", searchStatistics.SeedsStalled);
+    gridfree::AddFieldValue(fd, "SeedsNotAtZero", searchStatistics.SeedsNotZero);
+    gridfree::AddFieldValue(fd, "SeedsStillMoving", searchStatistics.SeedsMaxIterations);
+    gridfree::AddFieldValue(fd, "ClustersOfIndexZero", searchStatistics.ClustersZeroIndex);
+    gridfree::AddFieldValue(fd, "ClustersUnresolved", searchStatistics.ClustersUnresolved);
+    gridfree::AddFieldValue(fd, "SearchIterations", searchStatistics.Iterations);
+
+    if (this->TraceSeparatrices && !singularities.empty())
+    {
+      progress = 0.7;
+      phaseEnd = 1.0;
+      gridfree::SeparatrixSettings tracing;
+      tracing.MinStep = 1e-4 * diagonal;
+      tracing.MaxStep = this->SeparatrixStep * diagonal;
+      tracing.StopDistance = 0.005 * diagonal;
+      tracing.CaptureRadius = 0.02 * diagonal;
+      tracing.MaxSteps = this->MaximumSeparatrixSteps;
+      tracing.MaxLength = 10.0 * diagonal;
+      gridfree::SeparatrixStatistics tracingStatistics;
+      const std::vector<gridfree::Separatrix> curves =
+        gridfree::TraceSeparatrices(evaluate, singularities, tracing, &tracingStatistics);
+      if (failed && !this->CheckAbort())
+      {
+        return 0;
+      }
+      vtkNew<vtkPoints> curvePoints;
+      curvePoints->SetDataTypeToDouble();
+      vtkNew<vtkCellArray> polylines;
+      vtkNew<vtkIntArray> source, target, reason;
+      source->SetName("SourceSingularity");
+      target->SetName("TargetSingularity");
+      reason->SetName("StopReason");
+      auto length = gridfree::MakeArray("Length", 1, 0);
+      for (const gridfree::Separatrix& c : curves)
+      {
+        // A connection between two singularities is traced from both ends:
+        // keep one.
+        bool duplicate = false;
+        if (c.Target >= 0 && c.Target < c.Source)
+        {
+          for (const gridfree::Separatrix& other : curves)
+          {
+            duplicate = duplicate || (other.Source == c.Target && other.Target == c.Source);
+          }
+        }
+        if (duplicate || c.Points.size() < 2)
+        {
+          continue;
+        }
+        polylines->InsertNextCell(static_cast<vtkIdType>(c.Points.size()));
+        for (const gridfree::Vec2& p : c.Points)
+        {
+          polylines->InsertCellPoint(curvePoints->InsertNextPoint(p.x(), p.y(), z0));
+        }
+        source->InsertNextValue(c.Source);
+        target->InsertNextValue(c.Target);
+        reason->InsertNextValue(static_cast<int>(c.Reason));
+        length->InsertNextValue(c.Length);
+      }
+      separatrixOutput->SetPoints(curvePoints);
+      separatrixOutput->SetLines(polylines);
+      for (vtkDataArray* a : { static_cast<vtkDataArray*>(source),
+             static_cast<vtkDataArray*>(target), static_cast<vtkDataArray*>(reason),
+             static_cast<vtkDataArray*>(length) })
+      {
+        separatrixOutput->GetCellData()->AddArray(a);
+      }
+      if (tracingStatistics.Aborted && this->CheckAbort())
+      {
+        vtkWarningMacro(<< "Separatrix tracing aborted: the curves end where they were.");
+      }
+    }
+  }
+  this->AddSummary(output);
+  gridfree::AddFieldValue(
+    output->GetFieldData(), "SearchEstimates", static_cast<double>(this->LastNumberOfEstimates));
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkWalkOnSpheresCrossField::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SearchSingularities: " << this->SearchSingularities << "\n";
+  os << indent << "TraceSeparatrices: " << this->TraceSeparatrices << "\n";
+  os << indent << "NumberOfSeeds: " << this->NumberOfSeeds << "\n";
+  os << indent << "SearchWalksPerPoint: " << this->SearchWalksPerPoint << "\n";
+  os << indent << "MergeRadius: " << this->MergeRadius << "\n";
+  os << indent << "IndexRadius: " << this->IndexRadius << "\n";
+  os << indent << "SeparatrixStep: " << this->SeparatrixStep << "\n";
+  os << indent << "MaximumSearchSteps: " << this->MaximumSearchSteps << "\n";
+  os << indent << "MaximumSeparatrixSteps: " << this->MaximumSeparatrixSteps << "\n";
+  os << indent << "LastNumberOfEstimates: " << this->LastNumberOfEstimates << "\n";
+}

@@ -1,0 +1,170 @@
+"""Cross fields (paper Sec. 6.5): psi = nu^4 extended harmonically. On a
+square the field is the constant, axis-aligned cross; on a disk psi = z^4
+and the singularities' indices (quarter turns) sum to 4 x Euler
+characteristic; on regular polygons the single singularity at the centre has
+the index the corners imply, with its separatrices running to the edges'
+midpoints. Also thread independence and errors."""
+import cmath
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData  # noqa: E402
+from vtkmodules.vtkFiltersSources import vtkSphereSource  # noqa: E402
+
+from gridfree_testing import MessageCatcher, point_cloud  # noqa: E402
+
+
+def polygon(vertices):
+    """A closed polyline through the vertices, in z = 0."""
+    points = vtkPoints()
+    for x, y in vertices:
+        points.InsertNextPoint(x, y, 0.0)
+    lines = vtkCellArray()
+    lines.InsertNextCell(len(vertices) + 1)
+    for i in range(len(vertices) + 1):
+        lines.InsertCellPoint(i % len(vertices))
+    curve = vtkPolyData()
+    curve.SetPoints(points)
+    curve.SetLines(lines)
+    return curve
+
+
+def regular_polygon(sides, phase=0.0):
+    return polygon([(math.cos(2 * math.pi * k / sides + phase),
+                     math.sin(2 * math.pi * k / sides + phase)) for k in range(sides)])
+
+
+def cross_field(boundary, probe_points, **settings):
+    filter_ = gridfree.vtkWalkOnSpheresCrossField()
+    filter_.SetBoundaryData(boundary)
+    filter_.SetProbeData(point_cloud(probe_points))
+    for name, value in settings.items():
+        getattr(filter_, "Set" + name)(value)
+    catcher = MessageCatcher(filter_)
+    filter_.Update()
+    assert not catcher.errors, catcher.error_text()
+    return filter_
+
+
+def singularities(filter_):
+    data = filter_.GetOutput(1)
+    index = data.GetPointData().GetArray("Index")
+    residual = data.GetPointData().GetArray("IndexResidual")
+    return [(data.GetPoint(i), index.GetValue(i), residual.GetValue(i))
+            for i in range(data.GetNumberOfPoints())]
+
+
+def separatrix_ends(filter_):
+    lines = filter_.GetOutput(2)
+    reasons = lines.GetCellData().GetArray("StopReason")
+    ends = []
+    for c in range(lines.GetNumberOfCells()):
+        cell = lines.GetCell(c)
+        ends.append((cell.GetPoints().GetPoint(cell.GetNumberOfPoints() - 1), reasons.GetValue(c)))
+    return ends
+
+
+def test_square_is_the_axis_aligned_cross():
+    points = [(0.3, 0.2, 0.0), (-0.7, 0.5, 0.0), (0.9, -0.9, 0.0)]
+    filter_ = cross_field(polygon([(-1, -1), (1, -1), (1, 1), (-1, 1)]), points,
+                          WalksPerPoint=64, NumberOfSeeds=8)
+    data = filter_.GetOutput().GetPointData()
+    psi = data.GetArray("CrossField")
+    expected = [(1, 0, 0), (0, 1, 0), (-1, 0, 0), (0, -1, 0)]
+    for i in range(len(points)):
+        # Every normal of a square has nu^4 = 1: every walk returns 1.
+        assert psi.GetTuple2(i) == (1.0, 0.0)
+        assert data.GetArray("CrossField_Variance").GetTuple2(i) == (0.0, 0.0)
+        for k in range(4):
+            direction = data.GetArray("CrossDirection%d" % (k + 1)).GetTuple3(i)
+            assert max(abs(a - b) for a, b in zip(direction, expected[k])) < 1e-12
+    # |psi| = 1 everywhere: no singularity, no separatrix.
+    assert filter_.GetOutput(1).GetNumberOfPoints() == 0
+    assert filter_.GetOutput(2).GetNumberOfCells() == 0
+
+
+def test_disk_is_z4_and_indices_sum_to_four():
+    points = [(0.5, 0.3, 0.0), (-0.2, -0.6, 0.0), (0.7, -0.1, 0.0)]
+    # psi = z^4 vanishes to fourth order at the centre: a flat zero, so the
+    # search needs many walks, a wide merge radius and a wide index circle.
+    filter_ = cross_field(regular_polygon(1024), points, WalksPerPoint=4096,
+                          SearchWalksPerPoint=65536, NumberOfSeeds=6, MergeRadius=0.2,
+                          IndexRadius=0.2, Seed=2)
+    data = filter_.GetOutput().GetPointData()
+    psi = data.GetArray("CrossField")
+    variance = data.GetArray("CrossField_Variance")
+    for i, (x, y, _) in enumerate(points):
+        exact = complex(x, y) ** 4
+        for c, value in enumerate((exact.real, exact.imag)):
+            assert abs(psi.GetComponent(i, c) - value) < 5 * math.sqrt(variance.GetComponent(i, c))
+    found = singularities(filter_)
+    # Euler characteristic 1: the indices sum to 4 quarter turns.
+    assert sum(index for _, index, _ in found) == 4, found
+    assert len(found) == 1 and math.hypot(*found[0][0][:2]) < 0.2, found
+
+
+def check_polygon_singularity(sides, expected_index):
+    """A regular polygon's single singularity sits at its centre; its
+    separatrices are the |4 - n| radii through the edges' midpoints."""
+    filter_ = cross_field(regular_polygon(sides, phase=math.pi / 2), [(0.1, 0.1, 0.0)],
+                          WalksPerPoint=64, SearchWalksPerPoint=1024, Seed=1)
+    found = singularities(filter_)
+    assert len(found) == 1, found
+    (x, y, _), index, residual = found[0]
+    assert index == expected_index and abs(residual) < 0.25, found
+    assert math.hypot(x, y) < 0.03, found
+    ends = separatrix_ends(filter_)
+    assert len(ends) == abs(4 - expected_index), ends
+    apothem = math.cos(math.pi / sides)
+    midpoints = [cmath.rect(apothem, math.pi / 2 + math.pi / sides + 2 * math.pi * k / sides)
+                 for k in range(sides)]
+    for (ex, ey, _), reason in ends:
+        assert reason == 0, ends  # stopped at the boundary
+        assert min(abs(complex(ex, ey) - m) for m in midpoints) < 0.05, ends
+    return filter_
+
+
+def test_triangle_has_one_three_armed_singularity():
+    # Corners of 60 degrees: nu^4 turns by +120 degrees at each; winding 1.
+    check_polygon_singularity(3, 1)
+
+
+def test_pentagon_has_one_five_armed_singularity():
+    # Corners of 108 degrees: nu^4 turns by -72 degrees at each; winding -1.
+    filter_ = check_polygon_singularity(5, -1)
+    field_data = filter_.GetOutput().GetFieldData()
+    assert field_data.GetArray("SearchEstimates").GetValue(0) == filter_.GetLastNumberOfEstimates()
+    assert field_data.GetArray("TotalWalks").GetValue(0) == filter_.GetLastNumberOfWalks()
+
+
+def test_same_result_for_any_thread_count():
+    results = []
+    for threads in (1, 2):
+        filter_ = cross_field(regular_polygon(3, phase=math.pi / 2), [(0.2, 0.1, 0.0)],
+                              WalksPerPoint=64, SearchWalksPerPoint=256, NumberOfSeeds=8,
+                              NumberOfThreads=threads, TraceSeparatrices=False)
+        results.append((filter_.GetOutput().GetPointData().GetArray("CrossField").GetTuple2(0),
+                        singularities(filter_)))
+    assert results[0] == results[1]
+
+
+def test_errors():
+    sphere = vtkSphereSource()
+    sphere.Update()
+    filter_ = gridfree.vtkWalkOnSpheresCrossField()
+    filter_.SetBoundaryData(sphere.GetOutput())
+    filter_.SetProbeData(point_cloud([(0.0, 0.0, 0.0)]))
+    catcher = MessageCatcher(filter_)
+    filter_.Update()
+    assert "2D domain" in catcher.error_text(), catcher.error_text()
+    tilted = polygon([(0, 0), (1, 0), (1, 1)])
+    tilted.GetPoints().SetPoint(2, 1.0, 1.0, 0.5)
+    filter_.SetBoundaryData(tilted)
+    catcher = MessageCatcher(filter_)
+    filter_.Update()
+    assert "one z-plane" in catcher.error_text(), catcher.error_text()
