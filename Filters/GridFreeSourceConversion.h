@@ -14,6 +14,7 @@
 #define GridFreeSourceConversion_h
 
 #include "ConcentratedSources.h"
+#include "DifferentialOperatorSource.h"
 #include "SourceTerms.h"
 
 #include <functional>
@@ -56,15 +57,9 @@ struct SourceDescription
   }
 };
 
-// What the source term f is made of the given data: the data themselves, or
-// the divergence or curl of a vector field (2D: the scalar curl
-// ∂X_y/∂x − ∂X_x/∂y). Values match vtkWalkOnSpheresSolver's SourceOperator.
-enum class SourceOperator
-{
-  Value = 0,
-  Divergence = 1,
-  Curl = 2
-};
+// SourceOperator (DifferentialOperatorSource.h): the data themselves, or the
+// divergence or curl of the vector field they give. Its values match
+// vtkWalkOnSpheresSolver's SourceOperator.
 
 // "value", "divergence" or "curl", for messages.
 const char* SourceOperatorName(SourceOperator op);

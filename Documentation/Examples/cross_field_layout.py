@@ -17,9 +17,10 @@ import os
 import sys
 
 import paraview.simple as pvs
+from example_pictures import closed_polyline, producer, save
 from paraview import servermanager
 from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
 def trefoil(t):
@@ -52,20 +53,6 @@ def parse_arguments():
     return parser.parse_args()
 
 
-def polyline(vertices):
-    points = vtkPoints()
-    for x, y in vertices:
-        points.InsertNextPoint(x, y, 0.0)
-    lines = vtkCellArray()
-    lines.InsertNextCell(len(vertices) + 1)
-    for i in range(len(vertices) + 1):
-        lines.InsertCellPoint(i % len(vertices))
-    curve = vtkPolyData()
-    curve.SetPoints(points)
-    curve.SetLines(lines)
-    return curve
-
-
 def inside(vertices, x, y):
     """Even-odd rule."""
     result = False
@@ -93,21 +80,6 @@ def interior_points(vertices, count):
     return cloud
 
 
-def producer(data):
-    source = pvs.PVTrivialProducer()
-    source.GetClientSideObject().SetOutput(data)
-    return source
-
-
-def save(layout, path, size):
-    # An X server that is slow to come up under load can lose the first render.
-    for _ in range(2):
-        if pvs.SaveScreenshot(path, layout, ImageResolution=size) and os.path.getsize(path) > 0:
-            print(f"wrote {path}")
-            return
-    sys.exit(f"could not write {path}")
-
-
 def main():
     args = parse_arguments()
     if not hasattr(pvs, "WalkOnSpheresCrossField"):
@@ -122,7 +94,7 @@ def main():
     index_lut.RescaleTransferFunction(-1.0, 1.0)
     index_lut.AutomaticRescaleRangeMode = "Never"
     for cell, (name, vertices, search_walks) in zip((1, 5, 6), DOMAINS):
-        curve = producer(polyline(vertices))
+        curve = producer(closed_polyline(vertices))
         probe = producer(interior_points(vertices, args.crosses))
         field = pvs.WalkOnSpheresCrossField(Boundary=curve, Probe=probe)
         field.WalksPerPoint = args.walks

@@ -25,8 +25,10 @@ import paraview.simple as pvs
 from paraview import servermanager
 from paraview.simple import (
     Calculator, ColorBy, CreateLayout, CreateView, GetColorTransferFunction, GetScalarBar,
-    Glyph, Plane, PointSource, SaveScreenshot, Show, Slice, Text, XMLPolyDataReader)
+    Glyph, Plane, PointSource, Show, Slice, Text, XMLPolyDataReader)
 from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from example_pictures import save
 
 # The demo's boundary temperature (head_ct_demo.py).
 TEMPERATURE = "20 + 10*sin(0.04*coordsX)*cos(0.03*coordsY) + 0.1*coordsZ"
@@ -150,15 +152,6 @@ def main():
     render_slices(args, boundary, skin, [reference, raw, adaptive, denoised], exact,
                   (xmin, xmax, ymin, ymax, zmin, zmax), error)
     render_streamlines(args, boundary, skin, sampler, mls, (xmin, xmax, ymin, ymax, zmin, zmax))
-
-
-def save(layout, path, size):
-    # An X server that is slow to come up under load can lose the first render.
-    for _ in range(2):
-        if SaveScreenshot(path, layout, ImageResolution=size) and os.path.getsize(path) > 0:
-            print(f"wrote {path}")
-            return
-    sys.exit(f"could not write {path}")
 
 
 def render_slices(args, boundary, skin, results, exact, bounds, error):

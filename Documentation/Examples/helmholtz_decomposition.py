@@ -16,9 +16,10 @@ import os
 import sys
 
 import paraview.simple as pvs
+from example_pictures import closed_polyline, producer, save
 from paraview import servermanager
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImageData, vtkPolyData
+from vtkmodules.vtkCommonCore import vtkDoubleArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkFiltersCore import vtkThreshold
 
 # A rotation, an expansion with a local sink, and a wavy uniform flow, mixed.
@@ -40,19 +41,11 @@ def parse_arguments():
 
 
 def boundary_curve(sides=720):
-    points = vtkPoints()
+    vertices = []
     for k in range(sides):
         theta = 2.0 * math.pi * k / sides
-        r = radius(theta)
-        points.InsertNextPoint(r * math.cos(theta), r * math.sin(theta), 0.0)
-    lines = vtkCellArray()
-    lines.InsertNextCell(sides + 1)
-    for k in range(sides + 1):
-        lines.InsertCellPoint(k % sides)
-    curve = vtkPolyData()
-    curve.SetPoints(points)
-    curve.SetLines(lines)
-    return curve
+        vertices.append((radius(theta) * math.cos(theta), radius(theta) * math.sin(theta)))
+    return closed_polyline(vertices)
 
 
 def interior_probe(resolution):
@@ -77,21 +70,6 @@ def interior_probe(resolution):
     threshold.AllScalarsOn()
     threshold.Update()
     return threshold.GetOutput()
-
-
-def producer(data):
-    source = pvs.PVTrivialProducer()
-    source.GetClientSideObject().SetOutput(data)
-    return source
-
-
-def save(layout, path, size):
-    # An X server that is slow to come up under load can lose the first render.
-    for _ in range(2):
-        if pvs.SaveScreenshot(path, layout, ImageResolution=size) and os.path.getsize(path) > 0:
-            print(f"wrote {path}")
-            return
-    sys.exit(f"could not write {path}")
 
 
 def main():

@@ -16,9 +16,10 @@ import os
 import sys
 
 import paraview.simple as pvs
+from example_pictures import closed_polyline, producer, save
 from paraview import servermanager
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImageData, vtkPolyData
+from vtkmodules.vtkCommonCore import vtkDoubleArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
 
 HALF_LENGTH, HALF_WIDTH, BEND_RADIUS = 1.5, 0.45, 1.6
 
@@ -51,20 +52,6 @@ def outline(step=0.05):
     return vertices
 
 
-def polyline(vertices):
-    points = vtkPoints()
-    for x, y in vertices:
-        points.InsertNextPoint(x, y, 0.0)
-    lines = vtkCellArray()
-    lines.InsertNextCell(len(vertices) + 1)
-    for i in range(len(vertices) + 1):
-        lines.InsertCellPoint(i % len(vertices))
-    curve = vtkPolyData()
-    curve.SetPoints(points)
-    curve.SetLines(lines)
-    return curve
-
-
 def checkerboard(resolution):
     """An image filling the bar, with a checkerboard of squares 0.15 wide."""
     image = vtkImageData()
@@ -82,29 +69,14 @@ def checkerboard(resolution):
     return image
 
 
-def producer(data):
-    source = pvs.PVTrivialProducer()
-    source.GetClientSideObject().SetOutput(data)
-    return source
-
-
-def save(layout, path, size):
-    # An X server that is slow to come up under load can lose the first render.
-    for _ in range(2):
-        if pvs.SaveScreenshot(path, layout, ImageResolution=size) and os.path.getsize(path) > 0:
-            print(f"wrote {path}")
-            return
-    sys.exit(f"could not write {path}")
-
-
 def main():
     args = parse_arguments()
     if not hasattr(pvs, "WalkOnSpheresDeformation"):
         sys.exit("GridFree plugin not loaded (PV_PLUGIN_PATH)")
     os.makedirs(args.output, exist_ok=True)
     vertices = outline()
-    source = producer(polyline(vertices))
-    target = producer(polyline([bend(x, y) for x, y in vertices]))
+    source = producer(closed_polyline(vertices))
+    target = producer(closed_polyline([bend(x, y) for x, y in vertices]))
     image = producer(checkerboard(args.resolution))
     warp = pvs.WalkOnSpheresDeformation(Source=source, Probe=image, Target=target)
     warp.WalksPerPoint = args.walks

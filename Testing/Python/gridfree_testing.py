@@ -5,7 +5,7 @@ import math
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkFiltersSources import vtkRegularPolygonSource, vtkSphereSource
 
 
@@ -43,6 +43,22 @@ def point_cloud(points):
         vtk_points.InsertNextPoint(*p)
     cloud.SetPoints(vtk_points)
     return cloud
+
+
+def closed_polyline(vertices):
+    """One closed polyline through the (x, y) vertices, in z = 0 (a 2D
+    boundary)."""
+    points = vtkPoints()
+    for x, y in vertices:
+        points.InsertNextPoint(x, y, 0.0)
+    lines = vtkCellArray()
+    lines.InsertNextCell(len(vertices) + 1)
+    for i in range(len(vertices) + 1):
+        lines.InsertCellPoint(i % len(vertices))
+    curve = vtkPolyData()
+    curve.SetPoints(points)
+    curve.SetLines(lines)
+    return curve
 
 
 def sphere_boundary(function=saddle, name="T", resolution=128):

@@ -12,30 +12,13 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import gridfree  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkSphereSource  # noqa: E402
 
-from gridfree_testing import MessageCatcher, point_cloud  # noqa: E402
+from gridfree_testing import MessageCatcher, closed_polyline, point_cloud  # noqa: E402
 
 
-def polygon(vertices):
-    """A closed polyline through the vertices, in z = 0."""
-    points = vtkPoints()
-    for x, y in vertices:
-        points.InsertNextPoint(x, y, 0.0)
-    lines = vtkCellArray()
-    lines.InsertNextCell(len(vertices) + 1)
-    for i in range(len(vertices) + 1):
-        lines.InsertCellPoint(i % len(vertices))
-    curve = vtkPolyData()
-    curve.SetPoints(points)
-    curve.SetLines(lines)
-    return curve
-
-
-def regular_polygon(sides, phase=0.0):
-    return polygon([(math.cos(2 * math.pi * k / sides + phase),
+def regular_closed_polyline(sides, phase=0.0):
+    return closed_polyline([(math.cos(2 * math.pi * k / sides + phase),
                      math.sin(2 * math.pi * k / sides + phase)) for k in range(sides)])
 
 
@@ -71,7 +54,7 @@ def separatrix_ends(filter_):
 
 def test_square_is_the_axis_aligned_cross():
     points = [(0.3, 0.2, 0.0), (-0.7, 0.5, 0.0), (0.9, -0.9, 0.0)]
-    filter_ = cross_field(polygon([(-1, -1), (1, -1), (1, 1), (-1, 1)]), points,
+    filter_ = cross_field(closed_polyline([(-1, -1), (1, -1), (1, 1), (-1, 1)]), points,
                           WalksPerPoint=64, NumberOfSeeds=8)
     data = filter_.GetOutput().GetPointData()
     psi = data.GetArray("CrossField")
@@ -92,7 +75,7 @@ def test_disk_is_z4_and_indices_sum_to_four():
     points = [(0.5, 0.3, 0.0), (-0.2, -0.6, 0.0), (0.7, -0.1, 0.0)]
     # psi = z^4 vanishes to fourth order at the centre: a flat zero, so the
     # search needs many walks, a wide merge radius and a wide index circle.
-    filter_ = cross_field(regular_polygon(1024), points, WalksPerPoint=4096,
+    filter_ = cross_field(regular_closed_polyline(1024), points, WalksPerPoint=4096,
                           SearchWalksPerPoint=65536, NumberOfSeeds=6, MergeRadius=0.2,
                           IndexRadius=0.2, Seed=2)
     data = filter_.GetOutput().GetPointData()
@@ -111,7 +94,7 @@ def test_disk_is_z4_and_indices_sum_to_four():
 def check_polygon_singularity(sides, expected_index):
     """A regular polygon's single singularity sits at its centre; its
     separatrices are the |4 - n| radii through the edges' midpoints."""
-    filter_ = cross_field(regular_polygon(sides, phase=math.pi / 2), [(0.1, 0.1, 0.0)],
+    filter_ = cross_field(regular_closed_polyline(sides, phase=math.pi / 2), [(0.1, 0.1, 0.0)],
                           WalksPerPoint=64, SearchWalksPerPoint=1024, Seed=1)
     found = singularities(filter_)
     assert len(found) == 1, found
@@ -145,7 +128,7 @@ def test_pentagon_has_one_five_armed_singularity():
 def test_same_result_for_any_thread_count():
     results = []
     for threads in (1, 2):
-        filter_ = cross_field(regular_polygon(3, phase=math.pi / 2), [(0.2, 0.1, 0.0)],
+        filter_ = cross_field(regular_closed_polyline(3, phase=math.pi / 2), [(0.2, 0.1, 0.0)],
                               WalksPerPoint=64, SearchWalksPerPoint=256, NumberOfSeeds=8,
                               NumberOfThreads=threads, TraceSeparatrices=False)
         results.append((filter_.GetOutput().GetPointData().GetArray("CrossField").GetTuple2(0),
@@ -162,7 +145,7 @@ def test_errors():
     catcher = MessageCatcher(filter_)
     filter_.Update()
     assert "2D domain" in catcher.error_text(), catcher.error_text()
-    tilted = polygon([(0, 0), (1, 0), (1, 1)])
+    tilted = closed_polyline([(0, 0), (1, 0), (1, 1)])
     tilted.GetPoints().SetPoint(2, 1.0, 1.0, 0.5)
     filter_.SetBoundaryData(tilted)
     catcher = MessageCatcher(filter_)

@@ -11,11 +11,10 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import gridfree  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImageData, vtkPolyData  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
 
-from gridfree_testing import MessageCatcher, point_cloud  # noqa: E402
+from gridfree_testing import MessageCatcher, closed_polyline, point_cloud  # noqa: E402
 
 ANGLE, SCALE, SHIFT = math.radians(30.0), 1.3, (0.5, -0.2)
 
@@ -25,20 +24,6 @@ def similarity(x, y):
     return (SCALE * (c * x - s * y) + SHIFT[0], SCALE * (s * x + c * y) + SHIFT[1])
 
 
-def polygon(vertices):
-    points = vtkPoints()
-    for x, y in vertices:
-        points.InsertNextPoint(x, y, 0.0)
-    lines = vtkCellArray()
-    lines.InsertNextCell(len(vertices) + 1)
-    for i in range(len(vertices) + 1):
-        lines.InsertCellPoint(i % len(vertices))
-    curve = vtkPolyData()
-    curve.SetPoints(points)
-    curve.SetLines(lines)
-    return curve
-
-
 def circle(sides=256):
     return [(math.cos(2 * math.pi * k / sides), math.sin(2 * math.pi * k / sides))
             for k in range(sides)]
@@ -46,8 +31,8 @@ def circle(sides=256):
 
 def deform(source, target, probe, walks=1024, **settings):
     deformation = gridfree.vtkWalkOnSpheresDeformation()
-    deformation.SetSourceData(polygon(source))
-    deformation.SetTargetData(polygon(target))
+    deformation.SetSourceData(closed_polyline(source))
+    deformation.SetTargetData(closed_polyline(target))
     deformation.SetProbeData(probe)
     deformation.SetWalksPerPoint(walks)
     for name, value in settings.items():
@@ -130,8 +115,8 @@ def test_warped_copies_keep_the_structure():
 
 def test_errors():
     deformation = gridfree.vtkWalkOnSpheresDeformation()
-    deformation.SetSourceData(polygon(circle(16)))
-    deformation.SetTargetData(polygon(circle(15)))
+    deformation.SetSourceData(closed_polyline(circle(16)))
+    deformation.SetTargetData(closed_polyline(circle(15)))
     deformation.SetProbeData(point_cloud([(0.0, 0.0, 0.0)]))
     catcher = MessageCatcher(deformation)
     deformation.Update()

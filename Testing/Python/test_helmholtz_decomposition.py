@@ -13,12 +13,11 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import gridfree  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import (  # noqa: E402
-    vtkCellArray, vtkDataObject, vtkImageData, vtkPolyData)
+from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData, vtkPolyData  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkCubeSource  # noqa: E402
 
-from gridfree_testing import MessageCatcher, point_cloud  # noqa: E402
+from gridfree_testing import MessageCatcher, closed_polyline, point_cloud  # noqa: E402
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
 
@@ -69,21 +68,13 @@ def cube_boundary():
 def square_boundary(segments_per_side=4):
     """The square [-1, 1]^2 in z = 0 as one closed polyline."""
     corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
-    points = vtkPoints()
+    vertices = []
     for k in range(4):
         (x0, y0), (x1, y1) = corners[k], corners[(k + 1) % 4]
         for s in range(segments_per_side):
             t = s / segments_per_side
-            points.InsertNextPoint(x0 + t * (x1 - x0), y0 + t * (y1 - y0), 0.0)
-    n = points.GetNumberOfPoints()
-    lines = vtkCellArray()
-    lines.InsertNextCell(n + 1)
-    for i in range(n + 1):
-        lines.InsertCellPoint(i % n)
-    square = vtkPolyData()
-    square.SetPoints(points)
-    square.SetLines(lines)
-    return square
+            vertices.append((x0 + t * (x1 - x0), y0 + t * (y1 - y0)))
+    return closed_polyline(vertices)
 
 
 def probe_points(count, dimension, extent=0.8):
