@@ -1,10 +1,9 @@
 #!/bin/sh
-# Runs a command under a fresh X server, once more if the first attempt
-# fails. The servers are searched from a display number of this process's
-# own (xvfb-run -a starts at :99 otherwise): a test started right after
-# another one's server on :99 went away can meet that server's leftovers and
-# lose its connection ("bad X server connection"), which says nothing about
-# the code.
+# Runs a command (a test that renders) under a fresh X server, and once
+# more under another one if the first attempt fails. Full runs on a loaded
+# machine have lost the X connection at the first render ("bad X server
+# connection"), which says nothing about the code. Servers are searched from
+# a display number of this process's own, not from xvfb-run's :99.
 #   run_under_xvfb.sh XVFB_RUN COMMAND [ARGS...]
 xvfb_run="$1"
 shift
