@@ -8,20 +8,30 @@
 
 namespace
 {
-// X = (x²y + z, y z² − x, x y z), differentiated by the base class's
-// central differences.
+// X = (x²y + z, y z² − x, x y z), its first `components` entries,
+// differentiated by the base class's central differences.
 template <int DIM>
 class PolynomialField : public gridfree::VolumeSource<DIM>
 {
 public:
+  explicit PolynomialField(int components = 3)
+    : Components(components)
+  {
+  }
   void Evaluate(const gridfree::Vec<DIM>& p, double* f) override
   {
     const double x = p[0], y = p[1], z = DIM == 3 ? p[2] : 0.0;
-    f[0] = x * x * y + z;
-    f[1] = y * z * z - x;
-    f[2] = x * y * z;
+    const double all[3] = { x * x * y + z, y * z * z - x, x * y * z };
+    // Writing past `components` would overrun the caller's buffer.
+    for (int c = 0; c < this->Components; ++c)
+    {
+      f[c] = all[c];
+    }
   }
   bool SupportBounds(gridfree::Vec<DIM>&, gridfree::Vec<DIM>&) const override { return false; }
+
+private:
+  int Components;
 };
 } // namespace
 
@@ -50,7 +60,7 @@ TEST(DifferentialOperatorSource, ScalarCurl2D)
   gridfree::DifferentialOperatorSource<2> divergence(
     std::make_unique<PolynomialField<2>>(), 3, SourceOperator::Divergence);
   gridfree::DifferentialOperatorSource<2> curl(
-    std::make_unique<PolynomialField<2>>(), 2, SourceOperator::Curl);
+    std::make_unique<PolynomialField<2>>(2), 2, SourceOperator::Curl);
   EXPECT_EQ((gridfree::DifferentialOperatorSource<2>::ResultComponents(SourceOperator::Curl)), 1);
   const gridfree::Vec2 p(0.4, 0.9);
   double f[1];
