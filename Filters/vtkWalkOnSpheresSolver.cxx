@@ -423,6 +423,8 @@ struct vtkWalkOnSpheresSolverInputs
   std::vector<std::string> ValueExpressions; // g (and h), replacing Values when set
   vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
   bool CellData = false;
+  bool TwoSided = false; // Values holds the front's then the back's g
+
   vtkDataSet* Source = nullptr;
   vtkDataArray* SourceArray = nullptr;
   std::string Expression;
@@ -697,6 +699,7 @@ public:
     {
       return false;
     }
+    geometry.SetTwoSided(in.TwoSided);
     std::string reason;
 
     gridfree::WalkSettings settings;
@@ -802,7 +805,7 @@ public:
           if (gridfree::ProbeStartPoint<DIM>(points[static_cast<std::size_t>(i)].data(), x))
           {
             distance->SetValue(i, geometry.Distance(x));
-            geometry.Evaluate(geometry.ClosestPoint(x), g.data());
+            geometry.Evaluate(x, geometry.ClosestPoint(x), g.data());
             for (int c = 0; c < nc; ++c)
             {
               closestValue->SetTypedComponent(i, c, g[static_cast<std::size_t>(c)]);
@@ -1548,6 +1551,10 @@ public:
       return false;
     }
     combined = values;
+    if (self->TwoSidedBoundaryValues)
+    {
+      return BackValues(self, mesh, what, name, values, association, combined);
+    }
     if (self->Equation != vtkWalkOnSpheresSolver::BIHARMONIC)
     {
       return true;
@@ -1581,6 +1588,44 @@ public:
       return false;
     }
     combined = Concatenate(values, h);
+    return true;
+  }
+
+  // The back side's values of two-sided boundary values (input array 3),
+  // side by side after the front's `values` in `combined`.
+  static bool BackValues(vtkWalkOnSpheresSolver* self, vtkPolyData* mesh, const std::string& what,
+    const std::string& name, vtkDataArray* values, int association,
+    vtkSmartPointer<vtkDataArray>& combined)
+  {
+    std::string reason;
+    int backAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    vtkDataArray* back = self->ResolveArray(3, mesh, false, backAssociation, reason);
+    if (!back)
+    {
+      vtkErrorWithObjectMacro(self, << "Two-sided boundary values need the back side's array on "
+                                    << what
+                                    << ", selected with SetInputArrayToProcess(3, 0, 0, "
+                                       "association, name)"
+                                    << (reason.empty() ? std::string(".") : ": " + reason + "."));
+      return false;
+    }
+    if (backAssociation != association ||
+      back->GetNumberOfComponents() != values->GetNumberOfComponents())
+    {
+      vtkErrorWithObjectMacro(self, << "The back value array '"
+                                    << (back->GetName() ? back->GetName() : "")
+                                    << "' must have the association (point or cell data) and "
+                                       "the number of components of the front value array '"
+                                    << name << "'.");
+      return false;
+    }
+    if (const vtkIdType nonFinite = CountNonFinite(back))
+    {
+      vtkErrorWithObjectMacro(self, << "The back value array has " << nonFinite
+                                    << " NaN or infinite values: boundary values must be finite.");
+      return false;
+    }
+    combined = Concatenate(values, back);
     return true;
   }
 
@@ -1794,6 +1839,26 @@ int vtkWalkOnSpheresSolver::RequestData(
     boundary = nullptr;
   }
 
+  if (this->TwoSidedBoundaryValues)
+  {
+    // The side test needs the mesh's orientation and the value table.
+    if (csg || implicit || expressionValues)
+    {
+      vtkErrorMacro(<< "Two-sided boundary values need a mesh boundary with front and back "
+                       "arrays: they cannot be used with "
+                    << (csg ? "a CSG boundary" : (implicit ? "an implicit boundary"
+                                                           : "BoundaryValueExpression"))
+                    << ".");
+      return 0;
+    }
+    if (this->Equation == BIHARMONIC)
+    {
+      vtkErrorMacro(<< "Two-sided boundary values are not available for the biharmonic "
+                       "equation: use the Laplace, Poisson or screened Poisson equation.");
+      return 0;
+    }
+  }
+
   int dimension = 3;
   std::string name = "Solution";
   vtkSmartPointer<vtkDataArray> combined;
@@ -1869,6 +1934,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   inputs.Implicit = this->ImplicitBoundary;
   inputs.Values = combined;
   inputs.CellData = cellData;
+  inputs.TwoSided = this->TwoSidedBoundaryValues;
   inputs.Probe = probe;
   inputs.Output = output;
   inputs.Name = name;
@@ -1909,6 +1975,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
      << (this->BoundaryValueExpression ? this->BoundaryValueExpression : "(none)") << "\n";
   os << indent << "BoundaryLaplacianExpression: "
      << (this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "(none)") << "\n";
+  os << indent << "TwoSidedBoundaryValues: " << this->TwoSidedBoundaryValues << "\n";
   os << indent << "Equation: " << this->Equation << "\n";
   os << indent << "ScreeningCoefficient: " << this->ScreeningCoefficient << "\n";
   os << indent << "SourceExpression: "

@@ -213,6 +213,28 @@ public:
   vtkGetStringMacro(BoundaryLaplacianExpression);
   ///@}
 
+  ///@{
+  /**
+   * Two-sided boundary values (default off; the diffusion curves and
+   * surfaces of paper Sec. 6.4): every boundary point has a front value, the
+   * array of SetInputArrayToProcess(0, ...), and a back value, the array of
+   * SetInputArrayToProcess(3, 0, 0, association, name) with the same
+   * association and number of components. A walk takes the value of the
+   * side it ends on: the front where the boundary's oriented normal points
+   * to it (left of a line's direction, the side from which a polygon's
+   * points turn counter-clockwise), the back elsewhere. On edges and
+   * vertices the side follows the angle-weighted pseudonormal, so it is
+   * exact for consistently oriented lines and closed surfaces. Probe points
+   * on the boundary itself take the mean of both sides. Bézier curves take
+   * the side of their left normal. Needs a mesh boundary with arrays (not an
+   * implicit, CSG or expression boundary) and an equation other than the
+   * biharmonic. The output is named after the front array.
+   */
+  vtkSetMacro(TwoSidedBoundaryValues, bool);
+  vtkGetMacro(TwoSidedBoundaryValues, bool);
+  vtkBooleanMacro(TwoSidedBoundaryValues, bool);
+  ///@}
+
   enum EquationType
   {
     LAPLACE = 0,
@@ -502,6 +524,7 @@ protected:
   double CsgBlendRadius = 0.0;
   char* BoundaryValueExpression = nullptr;
   char* BoundaryLaplacianExpression = nullptr;
+  bool TwoSidedBoundaryValues = false;
   int Equation = LAPLACE;
   double ScreeningCoefficient = 1.0;
   char* SourceExpression = nullptr;

@@ -6,12 +6,18 @@
 // BoundaryGeometry (implicit surfaces, CSG, Bézier curves). Values are either
 // a table on the mesh (per vertex, interpolated, or per primitive) or a
 // BoundaryValueFunction of the boundary point.
+//
+// Values may be two-sided (diffusion curves and surfaces, paper Sec. 6.4):
+// every tuple then holds the front side's numbers followed by the back
+// side's, and a walk that ends at x takes the side x lies on, seen from the
+// closest point along the oriented normal (Normal()).
 #ifndef GRIDFREE_CORE_BOUNDARY_H
 #define GRIDFREE_CORE_BOUNDARY_H
 
 #include "BoundaryValues.h"
 #include "Geometry/BoundaryGeometry.h"
 #include "Geometry/Bvh.h"
+#include "Geometry/SidePseudonormals.h"
 #include "Vector.h"
 
 #include <algorithm>
@@ -101,8 +107,33 @@ public:
     this->Max = box.Max;
   }
 
+  // Two-sided values: the values set hold 2·K numbers per tuple, K for the
+  // front (the side the normal points to: left of a segment's direction,
+  // the side a triangle's vertices turn counter-clockwise on) then K for
+  // the back, and Components() is K. Call after setting the values.
+  void SetTwoSided(bool twoSided)
+  {
+    if (twoSided && this->NumberOfComponents % 2 != 0)
+    {
+      throw std::invalid_argument("two-sided boundary values need an even number of components "
+                                  "(front then back), got " +
+        std::to_string(this->NumberOfComponents));
+    }
+    this->TwoSided = twoSided;
+    this->Pseudonormals = SidePseudonormals<DIM>();
+    if (twoSided && !this->Shape)
+    {
+      this->Pseudonormals.Build(this->Vertices, this->Primitives);
+    }
+  }
+  bool IsTwoSided() const { return this->TwoSided; }
+
   bool Empty() const { return !this->Shape && this->Primitives.empty(); }
-  int Components() const { return this->NumberOfComponents; }
+  // Numbers per boundary value (one side's, for two-sided values).
+  int Components() const
+  {
+    return this->TwoSided ? this->NumberOfComponents / 2 : this->NumberOfComponents;
+  }
   // Mesh primitives, or the parts of another geometry.
   std::size_t NumberOfPrimitives() const
   {
@@ -181,9 +212,71 @@ public:
       this->Vertices, this->Primitives[static_cast<std::size_t>(primitive)]);
   }
 
-  // Boundary value g at a closest point: barycentric interpolation of point
-  // data, or the primitive's own value for cell data. Writes Components().
+  // Which side of the boundary x lies on, seen from its closest point `hit`:
+  // +1 where the oriented normal points to x (front), −1 on the other side
+  // (back), 0 on the boundary itself or where the normal is undefined (a
+  // degenerate primitive, or x beyond the end of an open curve, level
+  // with it).
+  int Side(const Vec<DIM>& x, const ClosestPointResult<DIM>& hit) const
+  {
+    if (hit.primitive < 0)
+    {
+      return 0;
+    }
+    // On a mesh, the pseudonormal of the closest point's edge or vertex
+    // (SidePseudonormals: a primitive's own normal can point the wrong way
+    // past a sharp turn).
+    const Vec<DIM> n = this->Shape || this->Pseudonormals.Empty()
+      ? this->Normal(hit)
+      : this->Pseudonormals.At(this->Vertices, this->Primitives, hit.primitive, hit.barycentric);
+    const double d = (x - hit.point).dot(n);
+    return d > 0.0 ? 1 : (d < 0.0 ? -1 : 0);
+  }
+
+  // The boundary value a walk ending at x takes from its closest point
+  // `hit`: g(hit), or for two-sided values the side x lies on (Side), the
+  // mean of both sides where no side is defined. Writes Components().
+  void Evaluate(const Vec<DIM>& x, const ClosestPointResult<DIM>& hit, double* out) const
+  {
+    if (!this->TwoSided)
+    {
+      this->EvaluateStored(hit, out);
+      return;
+    }
+    this->EvaluateSide(this->Side(x, hit), hit, out);
+  }
+
+  // The boundary value at a closest point, without a side: g(hit), or for
+  // two-sided values the mean of both sides (the value on the boundary
+  // itself). Writes Components().
   void Evaluate(const ClosestPointResult<DIM>& hit, double* out) const
+  {
+    if (!this->TwoSided)
+    {
+      this->EvaluateStored(hit, out);
+      return;
+    }
+    this->EvaluateSide(0, hit, out);
+  }
+
+private:
+  // One side's values (side +1 front, −1 back, 0 their mean) of a
+  // two-sided boundary, from a per-thread buffer of both that grows once.
+  void EvaluateSide(int side, const ClosestPointResult<DIM>& hit, double* out) const
+  {
+    thread_local std::vector<double> both;
+    both.resize(static_cast<std::size_t>(this->NumberOfComponents));
+    this->EvaluateStored(hit, both.data());
+    const int k = this->NumberOfComponents / 2;
+    for (int c = 0; c < k; ++c)
+    {
+      out[c] = side > 0 ? both[c] : (side < 0 ? both[k + c] : 0.5 * (both[c] + both[k + c]));
+    }
+  }
+
+  // Every stored number at a closest point: barycentric interpolation of
+  // point data, or the primitive's own value for cell data.
+  void EvaluateStored(const ClosestPointResult<DIM>& hit, double* out) const
   {
     if (this->ValueFunction)
     {
@@ -226,7 +319,6 @@ public:
     }
   }
 
-private:
   void Clear()
   {
     this->Vertices.clear();
@@ -235,6 +327,7 @@ private:
     this->Association = ValueAssociation::Points;
     this->ValueFunction.reset();
     this->Shape.reset();
+    this->TwoSided = false;
     this->Tree = Bvh<DIM>();
   }
 
@@ -300,7 +393,10 @@ private:
   std::vector<Vec<DIM>> Vertices;
   std::vector<Primitive> Primitives;
   ValueAssociation Association = ValueAssociation::Points;
+  // Stored numbers per tuple (both sides' for two-sided values).
   int NumberOfComponents = 1;
+  bool TwoSided = false;
+  SidePseudonormals<DIM> Pseudonormals; // built for two-sided mesh values
   std::vector<double> Values;
   std::shared_ptr<const BoundaryValueFunction<DIM>> ValueFunction;
   std::shared_ptr<const BoundaryGeometry<DIM>> Shape;

@@ -299,7 +299,7 @@ private:
     // walks keeps the controls unbiased, and this one is usually close.
     if (available)
     {
-      this->Geometry.Evaluate(this->Geometry.ClosestPoint(centre), this->Pilot.data());
+      this->Geometry.Evaluate(centre, this->Geometry.ClosestPoint(centre), this->Pilot.data());
     }
 
     RunningStatistics& history = this->History;

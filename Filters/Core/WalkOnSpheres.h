@@ -402,7 +402,7 @@ private:
     const int nc = this->SolutionComponents;
     if (hasBoundaryValue)
     {
-      this->Geometry.Evaluate(this->Geometry.ClosestPoint(x), this->BoundaryValue.data());
+      this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x), this->BoundaryValue.data());
     }
     else
     {
@@ -454,7 +454,7 @@ private:
       const double radius = this->Geometry.StepRadius(x, this->Settings.Epsilon);
       if (!(radius >= this->Settings.Epsilon) || steps >= this->Settings.MaxSteps)
       {
-        this->Geometry.Evaluate(this->Geometry.ClosestPoint(x), this->InnerValue.data());
+        this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x), this->InnerValue.data());
         return;
       }
       x += radius * SampleUnitSphere<DIM>(rng);
