@@ -127,3 +127,41 @@ for i in range(lines.GetNumberOfPoints()):
     x, y, z = lines.GetPoint(i)
     assert abs(x * y - 0.05) < 0.03 and abs(z) < 0.03, (x, y, z)
 print("ok: stream tracer followed the hyperbola over %d points" % lines.GetNumberOfPoints())
+
+# Two-sided values as set in the GUI: outside the sphere (its front, as
+# Sphere winds outward) the front's decaying solution, inside the back's.
+sided = pvs.Calculator(Input=boundary, ResultArrayName="Back", Function="1 + coordsX")
+points = pvs.PointSource(Center=[0.0, 0.0, 0.0], NumberOfPoints=1, Radius=0.0)
+for centre, exact in (([0.3, 0.2, 0.1], lambda x, y, z: 1.0 + x),
+                      ([1.6, 0.4, -0.3],
+                       lambda x, y, z: (x * x - y * y) / (x * x + y * y + z * z) ** 2.5)):
+    points.Center = centre
+    two = pvs.WalkOnSpheresSolver(Boundary=sided, Probe=points)
+    two.BoundaryValues = ["POINTS", "T"]
+    two.TwoSidedBoundaryValues = 1
+    two.BackBoundaryValues = ["POINTS", "Back"]
+    two.WalksPerPoint = 4096
+    two.UpdatePipeline()
+    result = servermanager.Fetch(two)
+    value = result.GetPointData().GetArray("T").GetTuple1(0)
+    sigma = math.sqrt(result.GetPointData().GetArray("T_Variance").GetTuple1(0))
+    assert abs(value - exact(*centre)) < 5 * sigma, (centre, value, exact(*centre), sigma)
+    pvs.Delete(two)
+print("ok: two-sided values, inside and outside")
+
+# The diffusion curves filter: its default image of a 2D curve.
+outline = pvs.Line(Point1=[-1.0, 0.0, 0.0], Point2=[1.0, 0.0, 0.0], Resolution=50)
+front = pvs.Calculator(Input=outline, ResultArrayName="FrontColor", Function="1")
+colours = pvs.Calculator(Input=front, ResultArrayName="BackColor", Function="0")
+curves = pvs.WalkOnSpheresDiffusionCurves(Boundary=colours)
+curves.FrontColor = ["POINTS", "FrontColor"]
+curves.BackColor = ["POINTS", "BackColor"]
+curves.ImageResolution = [16, 12]
+curves.WalksPerPoint = 16
+curves.UpdatePipeline()
+image = servermanager.Fetch(curves)
+assert image.IsA("vtkImageData") and image.GetDimensions() == (16, 12, 1), image.GetDimensions()
+above = image.GetPointData().GetArray("FrontColor").GetTuple1(image.FindPoint(0.0, 0.06, 0.0))
+below = image.GetPointData().GetArray("FrontColor").GetTuple1(image.FindPoint(0.0, -0.06, 0.0))
+assert above > 0.6 > 0.4 > below, (above, below)
+print("ok: diffusion curves image, %.2f above the line and %.2f below" % (above, below))
