@@ -89,10 +89,6 @@ def main():
     layout.SetSize(1500, 540)
     layout.SplitHorizontal(0, 1.0 / 3.0)
     layout.SplitHorizontal(2, 0.5)
-    index_lut = pvs.GetColorTransferFunction("Index")
-    index_lut.ApplyPreset("Cool to Warm", True)
-    index_lut.RescaleTransferFunction(-1.0, 1.0)
-    index_lut.AutomaticRescaleRangeMode = "Never"
     for cell, (name, vertices, search_walks) in zip((1, 5, 6), DOMAINS):
         curve = producer(closed_polyline(vertices))
         probe = producer(interior_points(vertices, args.crosses))
@@ -131,12 +127,21 @@ def main():
         separatrices.ColorArrayName = ["POINTS", ""]
         separatrices.AmbientColor = separatrices.DiffuseColor = [0.85, 0.15, 0.1]
         separatrices.LineWidth = 4.0
-        points = pvs.Show(OutputPort(field, 1), view)
-        points.SetRepresentationType("Points")
-        pvs.ColorBy(points, ("POINTS", "Index"))
-        points.LookupTable = index_lut
-        points.PointSize = 16.0
-        points.RenderPointsAsSpheres = 1
+        # Singularities in fixed colours by the sign of their index: blue
+        # for positive (three-armed), green for negative (five-armed).
+        for lower, upper, colour in ((0.5, 1e9, [0.15, 0.2, 0.75]),
+                                     (-1e9, -0.5, [0.1, 0.6, 0.2])):
+            kept = pvs.Threshold(Input=OutputPort(field, 1), Scalars=["POINTS", "Index"],
+                                 LowerThreshold=lower, UpperThreshold=upper)
+            # Lifted towards the camera so the separatrices do not cover them.
+            lifted = pvs.Transform(Input=kept)
+            lifted.Transform.Translate = [0.0, 0.0, 0.01]
+            points = pvs.Show(lifted, view)
+            points.SetRepresentationType("Points")
+            points.ColorArrayName = ["POINTS", ""]
+            points.AmbientColor = points.DiffuseColor = colour
+            points.PointSize = 16.0
+            points.RenderPointsAsSpheres = 1
         outline = pvs.Show(curve, view)
         outline.ColorArrayName = ["POINTS", ""]
         outline.AmbientColor = outline.DiffuseColor = [0.1, 0.1, 0.1]
