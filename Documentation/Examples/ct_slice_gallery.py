@@ -24,14 +24,12 @@ import sys
 import paraview.simple as pvs
 from paraview import servermanager
 from paraview.simple import (
-    Calculator, ColorBy, CreateLayout, CreateView, GetColorTransferFunction, GetScalarBar,
-    Glyph, Plane, PointSource, Show, Slice, Text, XMLPolyDataReader)
+    ColorBy, CreateLayout, CreateView, GetColorTransferFunction, GetScalarBar, Glyph,
+    PointSource, Show, Slice, Text)
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from example_pictures import save
-
-# The demo's boundary temperature (head_ct_demo.py).
-TEMPERATURE = "20 + 10*sin(0.04*coordsX)*cos(0.03*coordsY) + 0.1*coordsZ"
+from head_ct_demo import temperature_and_slice  # the demo's boundary and slice
 
 
 def parse_arguments():
@@ -78,17 +76,9 @@ def main():
     if not hasattr(pvs, "WalkOnSpheresSolver"):
         sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder.")
 
-    skin = XMLPolyDataReader(FileName=[args.data])
-    boundary = Calculator(Input=skin, ResultArrayName="T", Function=TEMPERATURE)
-    boundary.UpdatePipeline()
-    (xmin, xmax, ymin, ymax, zmin, zmax) = boundary.GetDataInformation().GetBounds()
-    margin = 0.05 * (xmax - xmin)
-    zmid = 0.5 * (zmin + zmax)
     n = args.resolution
-    probe = Plane(Origin=[xmin - margin, ymin - margin, zmid],
-                  Point1=[xmax + margin, ymin - margin, zmid],
-                  Point2=[xmin - margin, ymax + margin, zmid],
-                  XResolution=n - 1, YResolution=n - 1)
+    skin, boundary, probe, bounds = temperature_and_slice(args.data, n)
+    (xmin, xmax, ymin, ymax, zmin, zmax) = bounds
 
     def dense(walks):
         solver = pvs.WalkOnSpheresSolver(Boundary=boundary, Probe=probe)

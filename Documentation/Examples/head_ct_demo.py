@@ -39,22 +39,31 @@ def parse_arguments():
     return parser.parse_args()
 
 
-def main():
-    args = parse_arguments()
-    os.makedirs(args.output, exist_ok=True)
-
-    skin = XMLPolyDataReader(FileName=[args.data])
+def temperature_and_slice(data, resolution):
+    """The skin surface, the skin carrying TEMPERATURE as the point array T,
+    a horizontal slice through the middle of the head, a little larger than
+    it, with `resolution` points along each side, and the skin's bounds
+    (also used by ct_slice_gallery.py)."""
+    skin = XMLPolyDataReader(FileName=[data])
     boundary = Calculator(Input=skin, ResultArrayName="T", Function=TEMPERATURE)
     boundary.UpdatePipeline()
     (xmin, xmax, ymin, ymax, zmin, zmax) = boundary.GetDataInformation().GetBounds()
-
-    # A horizontal slice through the middle of the head, a little larger than it.
     margin = 0.05 * (xmax - xmin)
     zmid = 0.5 * (zmin + zmax)
     probe = Plane(Origin=[xmin - margin, ymin - margin, zmid],
                   Point1=[xmax + margin, ymin - margin, zmid],
                   Point2=[xmin - margin, ymax + margin, zmid],
-                  XResolution=args.resolution - 1, YResolution=args.resolution - 1)
+                  XResolution=resolution - 1, YResolution=resolution - 1)
+    return skin, boundary, probe, (xmin, xmax, ymin, ymax, zmin, zmax)
+
+
+def main():
+    args = parse_arguments()
+    os.makedirs(args.output, exist_ok=True)
+
+    skin, boundary, probe, bounds = temperature_and_slice(args.data, args.resolution)
+    (xmin, xmax, ymin, ymax, zmin, zmax) = bounds
+    zmid = 0.5 * (zmin + zmax)
 
     if not hasattr(pvs, "WalkOnSpheresSolver"):
         sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder "

@@ -17,8 +17,7 @@ import sys
 import paraview.simple as pvs
 from paraview import servermanager
 
-# The demo's boundary temperature (head_ct_demo.py).
-TEMPERATURE = "20 + 10*sin(0.04*coordsX)*cos(0.03*coordsY) + 0.1*coordsZ"
+from head_ct_demo import TEMPERATURE  # the demo's boundary temperature
 
 
 def parse_arguments():

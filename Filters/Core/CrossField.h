@@ -878,6 +878,20 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
     curves[c].Reason = reason;
     tracers[c].Active = false;
   };
+  // One batch evaluation for the tracers `ids` at `at`; on failure (an
+  // abort) they all stop and the tracing ends.
+  const auto evaluateOrStop = [&](const std::vector<Vec2>& at, const std::vector<std::size_t>& ids) {
+    if (detail::EvaluateBatch(evaluator, at, samples, stats.EvaluatorCalls, stats.EvaluatedPoints))
+    {
+      return true;
+    }
+    stats.Aborted = true;
+    for (std::size_t c : ids)
+    {
+      stop(c, SeparatrixStop::Aborted);
+    }
+    return false;
+  };
   std::vector<std::size_t> owners;
   for (int step = 0;; ++step)
   {
@@ -896,13 +910,8 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
     {
       break;
     }
-    if (!detail::EvaluateBatch(evaluator, points, samples, stats.EvaluatorCalls, stats.EvaluatedPoints))
+    if (!evaluateOrStop(points, owners))
     {
-      stats.Aborted = true;
-      for (std::size_t c : owners)
-      {
-        stop(c, SeparatrixStop::Aborted);
-      }
       break;
     }
     std::vector<std::size_t> moving;
@@ -995,13 +1004,8 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
       continue;
     }
     // Stage 2 at the Euler points (Heun).
-    if (!detail::EvaluateBatch(evaluator, trial, samples, stats.EvaluatorCalls, stats.EvaluatedPoints))
+    if (!evaluateOrStop(trial, moving))
     {
-      stats.Aborted = true;
-      for (std::size_t c : moving)
-      {
-        stop(c, SeparatrixStop::Aborted);
-      }
       break;
     }
     ++stats.Steps;
