@@ -1183,6 +1183,27 @@ public:
     AddFieldValue(fd, "SolveSeconds", seconds);
     // Progressive refinement: walks per point taken from the kept sums.
     AddFieldValue(fd, "ResumedWalksPerPoint", static_cast<double>(startWalks));
+    // The run's summary, ready to read in a spreadsheet view or a script.
+    const double walkCount = static_cast<double>(totals.Walks);
+    const double walksPerSecond = seconds > 0.0 ? walkCount / seconds : 0.0;
+    const double meanSteps = walkCount > 0.0 ? static_cast<double>(totals.Steps) / walkCount : 0.0;
+    const double escapedFraction = walkCount > 0.0 ? static_cast<double>(totals.Escaped) / walkCount : 0.0;
+    AddFieldValue(fd, "ProbePoints", static_cast<double>(numPoints));
+    AddFieldValue(fd, "WalksPerSecond", walksPerSecond);
+    AddFieldValue(fd, "MeanStepsPerWalk", meanSteps);
+    AddFieldValue(fd, "EscapedWalkFraction", escapedFraction);
+    // Debug level: shown in ParaView's Output Messages when the filter's
+    // Debug property (advanced) is on, and by vtkObject::DebugOn elsewhere.
+    // Not vtkDebugWithObjectMacro: release builds (NDEBUG) compile it out.
+    if (self->GetDebug() && vtkObject::GetGlobalWarningDisplay())
+    {
+      std::ostringstream msg;
+      msg << self->GetObjectDescription() << ": summary: " << numPoints << " probe points, "
+          << totals.Walks << " walks, " << seconds << " s, " << walksPerSecond << " walks/s, "
+          << meanSteps << " steps per walk, escaped fraction " << escapedFraction;
+      vtkOutputWindowDisplayDebugText(
+        "vtkWalkOnSpheresSolver.cxx", __LINE__, msg.str().c_str(), self);
+    }
 
     if (!completed)
     {
