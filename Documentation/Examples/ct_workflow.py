@@ -69,8 +69,9 @@ def parse_arguments(argv):
 
 
 def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
-    """Creates the workflow's proxies and returns them by name; nothing runs
-    until a view or UpdatePipeline asks for it."""
+    """Creates the workflow's proxies and returns them by name. The volume is
+    read (for its grid) and the solver runs once (the arrows are scaled to
+    its gradient); a view or UpdatePipeline runs the rest."""
     if not hasattr(pvs, "WalkOnSpheresSolver"):
         sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder "
                  "(`./gridfree env` prints it) or load it in Tools > Manage Plugins.")
