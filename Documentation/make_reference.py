@@ -70,7 +70,7 @@ def choices_of(prop):
     return ""
 
 
-def proxy_section(proxy, group):
+def proxy_section(proxy):
     label = proxy.get("label") or proxy.get("name")
     lines = ["### %s" % label, ""]
     lines.append("`%s` (C++/Python class `%s`), in paraview.simple `%s(...)`."
@@ -130,7 +130,7 @@ def reference():
             for proxy in group:
                 if proxy.tag in ("SourceProxy", "Proxy") and proxy.get("class"):
                     sections.setdefault(group.get("name"), []).append(
-                        proxy_section(proxy, group.get("name")))
+                        proxy_section(proxy))
     out += ["## Filters (menu Filters > GridFree)", ""]
     for lines in sections["filters"]:
         out += lines
