@@ -2,6 +2,7 @@
 
 #include "GridFreeArrays.h"
 
+#include "GridFreePieceGather.h"
 #include "GridFreeWholeInputRequest.h"
 
 #include "Geometry/ImplicitBoundary.h"
@@ -37,6 +38,7 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkMatrix3x3.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -380,9 +382,12 @@ struct vtkWalkOnSpheresSolverCache
   vtkMTimeType Settings = 0;
   std::vector<std::uint64_t> Inputs;
 
-  static std::vector<std::uint64_t> Fingerprint(const std::array<vtkObject*, 4>& objects)
+  // `gathered`: the signature of the pieces gathered from other ranks (0 in
+  // a serial run).
+  static std::vector<std::uint64_t> Fingerprint(
+    const std::array<vtkObject*, 4>& objects, std::uint64_t gathered)
   {
-    std::vector<std::uint64_t> print;
+    std::vector<std::uint64_t> print{ gathered };
     for (vtkObject* object : objects)
     {
       AppendFingerprint(object, print);
@@ -393,19 +398,21 @@ struct vtkWalkOnSpheresSolverCache
 
   // Forgets the sums unless they were computed from these very inputs and
   // settings.
-  void Validate(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects)
+  void Validate(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects,
+    std::uint64_t gathered)
   {
-    if (settings != this->Settings || Fingerprint(objects) != this->Inputs)
+    if (settings != this->Settings || Fingerprint(objects, gathered) != this->Inputs)
     {
       this->Sums.Clear();
     }
   }
 
   // Remembers what the sums just kept come from.
-  void Remember(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects)
+  void Remember(vtkMTimeType settings, const std::array<vtkObject*, 4>& objects,
+    std::uint64_t gathered)
   {
     this->Settings = settings;
-    this->Inputs = Fingerprint(objects);
+    this->Inputs = Fingerprint(objects, gathered);
   }
 };
 
@@ -1258,6 +1265,7 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
 //------------------------------------------------------------------------------
@@ -1295,9 +1303,16 @@ vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
   this->SetBoundaryValueExpression(nullptr);
   this->SetBoundaryLaplacianExpression(nullptr);
   this->SetImplicitBoundary(nullptr);
+  this->SetController(nullptr);
 }
 
 vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, ImplicitBoundary, vtkImplicitFunction);
+vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, Controller, vtkMultiProcessController);
+
+bool vtkWalkOnSpheresSolver::GathersPieces() const
+{
+  return this->Controller && this->Controller->GetNumberOfProcesses() > 1;
+}
 
 // Editing the implicit function (a ParaView widget) must re-execute the solver.
 vtkMTimeType vtkWalkOnSpheresSolver::GetMTime()
@@ -1417,16 +1432,26 @@ int vtkWalkOnSpheresSolver::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-// Every piece needs the whole boundary and source; the probe is split as requested.
+// Every piece needs the whole boundary and source; the probe is split as
+// requested. In a distributed run each rank asks for its own piece of the
+// boundary and source, and RequestData gathers the rest from the other ranks.
 int vtkWalkOnSpheresSolver::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkInformation* probeInfo = inputVector[ProbePort]->GetInformationObject(0);
-  // The boundary and the source are needed whole by every piece.
   for (int port : { BoundaryPort, SourcePort })
   {
-    gridfree::RequestWholeInput(inputVector[port]->GetInformationObject(0));
+    vtkInformation* info = inputVector[port]->GetInformationObject(0);
+    if (this->GathersPieces())
+    {
+      gridfree::RequestPiece(info, this->Controller->GetLocalProcessId(),
+        this->Controller->GetNumberOfProcesses());
+    }
+    else
+    {
+      gridfree::RequestWholeInput(info);
+    }
   }
   if (probeInfo)
   {
@@ -1747,9 +1772,53 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastDimension = 0;
 
   vtkDataObject* boundaryObject = vtkDataObject::GetData(inputVector[BoundaryPort], 0);
+  vtkDataObject* sourceObject = vtkDataObject::GetData(inputVector[SourcePort], 0);
+  // The inputs as this rank received them: what kept running sums are keyed on.
+  vtkDataObject* const boundaryPiece = boundaryObject;
+  vtkDataObject* const sourcePiece = sourceObject;
+  // A distributed run gathers the boundary and source first, before anything
+  // can return early: every rank must take part in the exchange.
+  gridfree::GatheredPieces gatheredBoundary;
+  gridfree::GatheredPieces gatheredSource;
+  if (this->GathersPieces())
+  {
+    std::string gatherReason;
+    for (auto port : { BoundaryPort, SourcePort })
+    {
+      if (this->GetNumberOfInputConnections(port) == 0)
+      {
+        continue; // the same on every rank
+      }
+      gridfree::GatheredPieces& gathered =
+        port == BoundaryPort ? gatheredBoundary : gatheredSource;
+      if (!gridfree::GatherPieces(this->Controller, port == BoundaryPort ? boundaryPiece
+                                                                         : sourcePiece,
+            gathered, gatherReason))
+      {
+        vtkErrorMacro(<< "Cannot gather the " << (port == BoundaryPort ? "Boundary" : "Source")
+                      << " input from the " << this->Controller->GetNumberOfProcesses()
+                      << " ranks: " << gatherReason << ".");
+        return 0;
+      }
+    }
+    if (this->GetNumberOfInputConnections(BoundaryPort) > 0)
+    {
+      boundaryObject = gatheredBoundary.Whole;
+    }
+    if (this->GetNumberOfInputConnections(SourcePort) > 0)
+    {
+      sourceObject = gatheredSource.Whole;
+    }
+  }
   vtkPolyData* boundary = vtkPolyData::SafeDownCast(boundaryObject);
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
-  vtkDataSet* source = vtkDataSet::GetData(inputVector[SourcePort], 0);
+  vtkDataSet* source = vtkDataSet::SafeDownCast(sourceObject);
+  if (sourceObject && !source)
+  {
+    vtkErrorMacro(<< "The Source input is a " << sourceObject->GetClassName()
+                  << ", not a dataset.");
+    return 0;
+  }
   vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
   const bool implicit = this->ImplicitBoundary != nullptr;
   const bool csg = this->CsgOperation != CSG_NONE;
@@ -1960,9 +2029,13 @@ int vtkWalkOnSpheresSolver::RequestData(
   inputs.Output = output;
   inputs.Name = name;
   // Kept running sums stay usable only if nothing but WalksPerPoint changed.
-  const std::array<vtkObject*, 4> used = { boundaryObject, probe, source,
+  // (Gathered inputs are new objects at each execution: the sums are keyed on
+  // this rank's pieces and on the signature of every rank's pieces.)
+  const std::array<vtkObject*, 4> used = { boundaryPiece, probe, sourcePiece,
     this->ImplicitBoundary };
-  this->Cache->Validate(this->SettingsTime.GetMTime(), used);
+  const std::uint64_t gatheredSignature = gatheredBoundary.Signature ^
+    (gatheredSource.Signature * 1099511628211ULL);
+  this->Cache->Validate(this->SettingsTime.GetMTime(), used, gatheredSignature);
   this->LastResumedWalksPerPoint = 0;
   bool ok = false;
   try
@@ -1979,7 +2052,13 @@ int vtkWalkOnSpheresSolver::RequestData(
   {
     this->Cache->Sums.Clear();
   }
-  this->Cache->Remember(this->SettingsTime.GetMTime(), used);
+  this->Cache->Remember(this->SettingsTime.GetMTime(), used, gatheredSignature);
+  if (ok && this->GathersPieces())
+  {
+    vtkFieldData* fd = output->GetFieldData();
+    AddFieldValue(fd, "BoundaryPiecesGathered", gatheredBoundary.ContributingRanks);
+    AddFieldValue(fd, "SourcePiecesGathered", gatheredSource.ContributingRanks);
+  }
   this->UpdateProgress(1.0);
   return ok ? 1 : 0;
 }
@@ -1989,6 +2068,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ImplicitBoundary: " << this->ImplicitBoundary << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "LipschitzBound: " << this->LipschitzBound << "\n";
   os << indent << "CsgOperation: " << this->CsgOperation << "\n";
   os << indent << "CsgBlendRadius: " << this->CsgBlendRadius << "\n";
