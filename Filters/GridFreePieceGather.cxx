@@ -9,7 +9,6 @@
 #include "vtkDataArray.h"
 #include "vtkDataObjectTree.h"
 #include "vtkDataSet.h"
-#include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -34,30 +33,14 @@ void RequestPiece(vtkInformation* info, int piece, int pieces)
   {
     return;
   }
+  // Only the piece: structured data gets the extent the executive derives
+  // from it, as every other consumer of the same output asks in a parallel
+  // run. A different request (another extent, or the whole) would make a
+  // collective upstream filter (Resample To Image, D3) run on some ranks only,
+  // and the ranks would wait for each other forever.
+  info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), piece);
+  info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), pieces);
   info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-  if (!info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), piece);
-    info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), pieces);
-    return;
-  }
-  // Structured data: the block itself, as piece 0 of 1. With a piece number
-  // as well, readers split the extent again their own way, and the block
-  // would shrink to the intersection of the two splits.
-  int whole[6];
-  int extent[6];
-  info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-  vtkNew<vtkExtentTranslator> translator;
-  if (!translator->PieceToExtentThreadSafe(
-        piece, pieces, 0, whole, extent, vtkExtentTranslator::BLOCK_MODE, 0))
-  {
-    // More pieces than points: this rank gets nothing (an inverted extent).
-    extent[0] = extent[2] = extent[4] = 0;
-    extent[1] = extent[3] = extent[5] = -1;
-  }
-  info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-  info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent, 6);
 }
 
 namespace

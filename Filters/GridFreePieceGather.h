@@ -25,9 +25,9 @@ class vtkMultiProcessController;
 
 namespace gridfree
 {
-// Asks an input connection for piece `piece` of `pieces`, no ghost levels;
-// for structured data also the piece's block of the whole extent. Does
-// nothing for an unconnected input.
+// Asks an input connection for piece `piece` of `pieces`, no ghost levels
+// (structured data: the block of its extent the executive derives from the
+// piece). Does nothing for an unconnected input.
 void RequestPiece(vtkInformation* info, int piece, int pieces);
 
 struct GatheredPieces

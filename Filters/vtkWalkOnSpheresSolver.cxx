@@ -2016,7 +2016,12 @@ int vtkWalkOnSpheresSolver::RequestData(
 
   if (probe->GetNumberOfPoints() == 0)
   {
-    vtkWarningMacro(<< "The Probe input has no points: there is nothing to solve.");
+    // In a distributed run a rank whose piece of the probe is empty (a
+    // slice that lies in another rank's block) is normal.
+    if (!this->GathersPieces())
+    {
+      vtkWarningMacro(<< "The Probe input has no points: there is nothing to solve.");
+    }
     return 1;
   }
 

@@ -209,7 +209,11 @@ def run_headless(args):
     p = build_pipeline(volume, args.walks, args.slice_z, args.seed)
     p["solver"].UpdatePipeline()
     s = summary(p["solver"])
-    print("points: %d" % s["ProbePoints"])
+    # Under `mpirun -np N pvbatch` each rank solves its own piece of the slice.
+    ranks = pvs.servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    if ranks > 1:
+        print("ranks: %d" % ranks)
+    print("points: %d" % p["solver"].GetDataInformation().GetNumberOfPoints())
     print("walks: %d (%d per point, %.1f steps per walk)"
           % (s["TotalWalks"], args.walks, s["MeanStepsPerWalk"]))
     print("seconds: %.2f" % s["SolveSeconds"])
@@ -220,8 +224,10 @@ def run_headless(args):
 
     # Inline binary: Debian 12's patched expat makes ParaView 5.11 reject
     # VTK's default appended raw data when reading the files back.
-    for name, key in (("ct_workflow_slice.vtp", "solver"),
-                      ("ct_workflow_streamlines.vtp", "streamlines")):
+    # Several ranks write one piece each, listed in a .pvtp.
+    extension = "pvtp" if ranks > 1 else "vtp"
+    names = ["ct_workflow_slice." + extension, "ct_workflow_streamlines." + extension]
+    for name, key in zip(names, ("solver", "streamlines")):
         pvs.SaveData(os.path.join(args.output, name), proxy=p[key],
                      DataMode="Binary", CompressorType="ZLib")
 
@@ -239,7 +245,7 @@ def run_headless(args):
             break
     else:
         sys.exit("could not write " + picture)
-    print("wrote ct_workflow_slice.vtp, ct_workflow_streamlines.vtp and %s" % picture)
+    print("wrote %s, %s and %s" % (names[0], names[1], picture))
     return p
 
 
