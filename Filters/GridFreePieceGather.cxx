@@ -455,9 +455,8 @@ bool GatherPieces(vtkMultiProcessController* controller, vtkDataObject* piece,
   {
     return true; // nothing anywhere: the caller reports a missing input
   }
-  // One distinct piece that this rank holds already (one rank held data, or
-  // every rank got the whole from an upstream that ignores pieces): no data
-  // needs to move to this rank.
+  // Every rank holds the same piece (an upstream that ignores piece requests
+  // gave each the whole dataset): nothing needs to move.
   const int firstContributor =
     static_cast<int>(std::find(contributes.begin(), contributes.end(), true) - contributes.begin());
   const bool everyoneHoldsIt = [&] {
