@@ -164,20 +164,29 @@ public:
   // lower bound of the distance, at least 1 / (1 + StepRelaxation) of it
   // (Bvh::DistanceLowerBound). It is exact whenever it is below `epsilon`,
   // so the decision to stop a walk is the same as with the exact distance.
-  double StepRadius(const Vec<DIM>& x, double epsilon) const
+  //
+  // A walk passes its StepHint to every StepRadius and to its final
+  // ClosestPoint: each query then starts from the primitive nearest to the
+  // walk's previous position, and a walk that stops needs no further search
+  // for its closest point (Bvh::NearestHint). Without one, each query starts
+  // afresh.
+  using StepHint = typename Bvh<DIM>::NearestHint;
+  double StepRadius(const Vec<DIM>& x, double epsilon, StepHint* hint = nullptr) const
   {
     if (this->Shape)
     {
       return this->Shape->Distance(x);
     }
+    StepHint none;
+    StepHint& h = hint ? *hint : none;
     if (!(this->StepRelaxation > 0.0))
     {
-      return this->Tree.Distance(x);
+      return std::sqrt(this->Tree.SquaredDistance(x, h));
     }
     bool exact = false;
     const double bound =
-      this->Tree.DistanceLowerBound(x, this->StepRelaxation, this->RelaxAbove, exact);
-    return exact || bound >= epsilon ? bound : this->Tree.Distance(x);
+      this->Tree.DistanceLowerBound(x, this->StepRelaxation, this->RelaxAbove, exact, &h);
+    return exact || bound >= epsilon ? bound : std::sqrt(this->Tree.SquaredDistance(x, h));
   }
 
   // How much smaller than the distance a step may be (default 0.2: balls of
@@ -190,6 +199,12 @@ public:
   ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const
   {
     return this->Shape ? this->Shape->ClosestPoint(x) : this->Tree.ClosestPoint(x);
+  }
+
+  // ClosestPoint for a walk that carries a StepHint (see StepRadius).
+  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x, StepHint& hint) const
+  {
+    return this->Shape ? this->Shape->ClosestPoint(x) : this->Tree.ClosestPoint(x, hint);
   }
 
   // Unit normal at a closest point (zero where there is none). Only used to

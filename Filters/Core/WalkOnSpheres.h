@@ -293,6 +293,7 @@ private:
     double ballIntegrals = 0.0; // tree walking: Σ_k ∫_{B_k} G = Σ_k R_k²/(2n)
     WalkEnd end = WalkEnd::Boundary;
     bool hasBoundaryValue = true;
+    typename Boundary<DIM>::StepHint hint; // this walk's own: results never depend on threads
     for (steps = 0;; ++steps)
     {
       const double fromCenter2 = (x - this->Center).squaredNorm();
@@ -340,7 +341,7 @@ private:
       // exit time with a long tail, and smaller balls (more, smaller terms)
       // made it heavier than a 512-walk sample variance can judge at 5σ.
       const double radius =
-        biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon);
+        biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon, &hint);
       // A NaN radius (a position that overflowed) ends the walk too: its
       // closest point is none, so the sample is NaN and visible.
       if (!(radius >= s.Epsilon))
@@ -402,7 +403,7 @@ private:
     const int nc = this->SolutionComponents;
     if (hasBoundaryValue)
     {
-      this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x), this->BoundaryValue.data());
+      this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x, hint), this->BoundaryValue.data());
     }
     else
     {
@@ -449,12 +450,13 @@ private:
   // ball of the outer walk); leaves the boundary values in InnerValue.
   void InnerLaplaceWalk(Vec<DIM> x, RandomStream& rng, int& steps)
   {
+    typename Boundary<DIM>::StepHint hint;
     for (steps = 0;; ++steps)
     {
-      const double radius = this->Geometry.StepRadius(x, this->Settings.Epsilon);
+      const double radius = this->Geometry.StepRadius(x, this->Settings.Epsilon, &hint);
       if (!(radius >= this->Settings.Epsilon) || steps >= this->Settings.MaxSteps)
       {
-        this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x), this->InnerValue.data());
+        this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x, hint), this->InnerValue.data());
         return;
       }
       x += radius * SampleUnitSphere<DIM>(rng);

@@ -883,6 +883,80 @@ void CheckDistanceLowerBound(const Soup<DIM>& soup, const std::vector<Vec<DIM>>&
   EXPECT_GT(relaxed, 0);
 }
 
+// Queries that carry a NearestHint from one to the next, as a walk does
+// (consecutive points one ball radius apart, and hints left by unrelated or
+// far-away queries): exact queries answer as brute force does, relaxed ones
+// stay within their bound, and a closest point after an exact step that
+// proved its primitive nearest is that of brute force.
+template <int DIM>
+void CheckHintedQueries(const Soup<DIM>& soup, const std::vector<Vec<DIM>>& queries)
+{
+  Bvh<DIM> bvh;
+  bvh.Build(soup.Vertices, soup.Primitives);
+  std::mt19937_64 rng(91);
+  std::normal_distribution<double> gauss;
+  typename Bvh<DIM>::NearestHint hint;
+  int reused = 0;
+  for (const auto& start : queries)
+  {
+    Vec<DIM> x = start;
+    for (int step = 0; step < 8; ++step)
+    {
+      const double d2 = BruteForceSquaredDistance(soup, x);
+      const double d = std::sqrt(d2);
+      bool exact = false;
+      const double bound = bvh.DistanceLowerBound(x, 0.2, 0.01, exact, &hint);
+      ASSERT_LE(bound, d) << "query " << x.transpose();
+      ASSERT_GE(bound, d / 1.2 * (1.0 - 1e-6)) << "query " << x.transpose();
+      ASSERT_GE(hint.Primitive, 0);
+      if (exact)
+      {
+        ASSERT_EQ(bound, d) << "query " << x.transpose();
+        // The closest point then comes from the hint alone.
+        const auto hit = bvh.ClosestPoint(x, hint);
+        ASSERT_EQ(hit.distance, d) << "query " << x.transpose();
+        ASSERT_EQ(KernelClosest(soup, static_cast<std::size_t>(hit.primitive), x).squaredDistance, d2);
+        ++reused;
+      }
+      ASSERT_EQ(bvh.SquaredDistance(x, hint), d2) << "query " << x.transpose();
+      ASSERT_TRUE(hint.Exact);
+      ASSERT_EQ(bvh.ClosestPoint(x, hint).distance, bvh.ClosestPoint(x).distance);
+      // The next point: one step of the exact radius in a random direction.
+      Vec<DIM> dir;
+      for (int k = 0; k < DIM; ++k)
+      {
+        dir[k] = gauss(rng);
+      }
+      x += d * dir.normalized();
+    }
+  }
+  EXPECT_GT(reused, 0);
+  // A stale hint (a point elsewhere, not proved) or one out of range is only
+  // a starting guess: answers are unchanged.
+  typename Bvh<DIM>::NearestHint stale;
+  stale.Primitive = static_cast<std::int64_t>(soup.Primitives.size()) + 5;
+  stale.Exact = true;
+  stale.Point = queries.front();
+  for (const auto& x : queries)
+  {
+    ASSERT_EQ(bvh.ClosestPoint(x, stale).distance, bvh.ClosestPoint(x).distance);
+  }
+}
+
+TEST(Bvh, HintedQueriesMatchBruteForce)
+{
+  CheckHintedQueries<3>(MakeSoup<3>(2000, 81), MakeQueries(MakeSoup<3>(2000, 81), 30, 82));
+  CheckHintedQueries<2>(MakeSoup<2>(2000, 83), MakeQueries(MakeSoup<2>(2000, 83), 30, 84));
+  const auto sphere = gridfree::testing::MakeIcosphere(5);
+  Soup<3> closed{ sphere.Vertices, sphere.Simplices };
+  std::vector<Vec3> inside;
+  for (int i = 0; i < 40; ++i)
+  {
+    inside.emplace_back(0.02 * i - 0.4, 0.3 - 0.01 * i, 0.015 * i - 0.3);
+  }
+  CheckHintedQueries<3>(closed, inside);
+}
+
 TEST(Bvh, DistanceLowerBound)
 {
   CheckDistanceLowerBound<3>(MakeSoup<3>(3000, 71), MakeQueries(MakeSoup<3>(3000, 71), 60, 72));

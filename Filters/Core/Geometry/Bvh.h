@@ -28,7 +28,10 @@
 //   up to the last-bit rounding of the kernels themselves.
 // * Traversal is nearest child first with a small fixed stack; Distance()
 //   tracks only the squared distance, and ClosestPoint() evaluates the
-//   barycentric weights once, for the winning primitive.
+//   barycentric weights once, for the winning primitive. A walk passes a
+//   NearestHint: the primitive nearest to its previous position is measured
+//   first and bounds the search from the start, and the closest point at
+//   the walk's end needs no search when its last query proved it.
 // * Ray queries (Intersect, Occluded) reuse the same nodes: a float slab test
 //   per 4 boxes whose intervals are widened for every rounding (it never
 //   drops a box the ray enters), nearest child first, pruned by the best hit.
@@ -105,26 +108,40 @@ struct BvhPrimitive<3>
   }
 };
 
+/// The next float below a float that is not NaN: one step of its bit
+/// pattern, which orders like the value within each sign. (std::nextafter
+/// was a tenth of a walk step's instructions.)
+inline float NextFloatDown(float f)
+{
+  if (f == 0.0f)
+  {
+    return -std::numeric_limits<float>::denorm_min();
+  }
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  bits = f > 0.0f ? bits - 1u : bits + 1u;
+  std::memcpy(&f, &bits, sizeof bits);
+  return f;
+}
+
+/// The next float above a float that is not NaN.
+inline float NextFloatUp(float f)
+{
+  return -NextFloatDown(-f);
+}
+
 /// Largest float <= v (directed rounding without touching the FPU mode).
 inline float FloatDown(double v)
 {
-  float f = static_cast<float>(v);
-  if (static_cast<double>(f) > v)
-  {
-    f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  }
-  return f;
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? NextFloatDown(f) : f;
 }
 
 /// Smallest float >= v.
 inline float FloatUp(double v)
 {
-  float f = static_cast<float>(v);
-  if (static_cast<double>(f) < v)
-  {
-    f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  }
-  return f;
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? NextFloatUp(f) : f;
 }
 
 /// Float threshold T such that a float box distance d2f > T proves that the
@@ -466,9 +483,43 @@ public:
     return best2;
   }
 
+  /// What a walk carries from one query to the next: the nearest primitive
+  /// its last query found, and whether that query proved it nearest to the
+  /// point it asked about. A walk's next position is one ball radius away,
+  /// so the same primitive or a neighbour is usually nearest again: measured
+  /// first, it bounds the search from the outset (a query started from a
+  /// cached primitive near the walker). Answers stay exact, or within the
+  /// relaxation, whatever the hint holds; only ties may resolve differently.
+  /// A hint belongs to one hierarchy and one walk (one thread).
+  struct NearestHint
+  {
+    std::int64_t Primitive = -1; // index in leaf order, -1 for none
+    bool Exact = false;          // Primitive is a nearest one to Point
+    Vec<DIM> Point = Vec<DIM>::Constant(std::numeric_limits<double>::quiet_NaN());
+  };
+
+  /// SquaredDistance, starting from and updating a hint.
+  double SquaredDistance(const Vec<DIM>& x, NearestHint& hint) const
+  {
+    double best2;
+    hint.Primitive = this->FindNearest(x, best2, nullptr, hint.Primitive);
+    hint.Exact = true;
+    hint.Point = x;
+    return best2;
+  }
+
   /// Closest point, its distance, the ORIGINAL index of its primitive (as
   /// passed to Build) and the barycentric weights of the primitive's vertices.
-  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const;
+  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const
+  {
+    NearestHint none;
+    return this->ClosestPoint(x, none);
+  }
+
+  /// ClosestPoint, starting from and updating a hint. When the hint's last
+  /// query was at this very x and proved its primitive nearest (a walk that
+  /// stops after an exact step radius), no search is needed.
+  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x, NearestHint& hint) const;
 
   /// A lower bound L of the distance d with d / (1 + relaxation) <= L <= d,
   /// for the step radius of a walk. While the nearest distance found so far
@@ -478,17 +529,25 @@ public:
   /// nearly every triangle is almost equidistant, and an exact answer must
   /// visit them all; the relaxed one stops after O(1 / relaxation²) boxes.
   /// `exact` tells whether L is the exact distance (no skipped box is nearer).
-  double DistanceLowerBound(
-    const Vec<DIM>& x, double relaxation, double exactBelow, bool& exact) const
+  /// With a hint, the search starts from its primitive and leaves in it the
+  /// nearest one found (proved nearest when `exact`).
+  double DistanceLowerBound(const Vec<DIM>& x, double relaxation, double exactBelow, bool& exact,
+    NearestHint* hint = nullptr) const
   {
     Relaxation r;
     r.Shrink2 = 1.0 / ((1.0 + relaxation) * (1.0 + relaxation));
     r.ExactBelow2 = exactBelow * exactBelow;
     double best2 = std::numeric_limits<double>::infinity();
-    this->FindNearest(x, best2, &r);
+    const std::int64_t best = this->FindNearest(x, best2, &r, hint ? hint->Primitive : -1);
     // Float box distances may exceed the exact ones by (1 + 2^-24)^5 at most.
     const double pruned2 = static_cast<double>(r.MinPruned2) * (1.0 - 0x1p-19);
     exact = !(pruned2 < best2);
+    if (hint)
+    {
+      hint->Primitive = best;
+      hint->Exact = exact;
+      hint->Point = x;
+    }
     return std::sqrt(exact ? best2 : pruned2);
   }
 
@@ -719,6 +778,21 @@ private:
     float Key;
   };
 
+  /// Index of the lowest set bit of a nonzero mask.
+  static int CountTrailingZeros(int mask)
+  {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(static_cast<unsigned>(mask));
+#else
+    int c = 0;
+    while (!(mask >> c & 1))
+    {
+      ++c;
+    }
+    return c;
+#endif
+  }
+
   /// Both traversals: the children in `mask` (empty slots skipped), sorted by
   /// key, are prefetched (random queries over a large mesh are bound by
   /// memory latency, so the misses should overlap); all but the nearest are
@@ -728,9 +802,10 @@ private:
   {
     Entry hits[kWidth];
     int numHits = 0;
-    for (int c = 0; c < kWidth; ++c)
+    for (int m = mask; m; m &= m - 1)
     {
-      if ((mask >> c & 1) && node.Child[c] != kEmptyChild)
+      const int c = CountTrailingZeros(m);
+      if (node.Child[c] != kEmptyChild)
       {
         const Entry e{ node.Child[c], keys[c] };
         int j = numHits++;
@@ -771,8 +846,11 @@ private:
 
   /// Index (into Primitives) of the nearest primitive, -1 if empty; best2
   /// returns its squared distance. With a relaxation, the nearest primitive
-  /// found while skipping boxes that are not much nearer (see above).
-  std::int64_t FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax = nullptr) const;
+  /// found while skipping boxes that are not much nearer (see above). A valid
+  /// `start` (index into Primitives) is measured first: its distance bounds
+  /// the search from the outset.
+  std::int64_t FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax = nullptr,
+    std::int64_t start = -1) const;
 
   /// The ray in node coordinates, for the float box tests of RayBoxes: per
   /// axis the float bounds of the (shifted) origin to subtract from the near
@@ -1307,15 +1385,29 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
 
 //------------------------------------------------------------------------------
 template <int DIM>
-std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax) const
+std::int64_t Bvh<DIM>::FindNearest(
+  const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
 {
   best2 = std::numeric_limits<double>::infinity();
   if (this->Nodes.empty())
   {
     return -1;
   }
+  const double exactBelow2 = relax ? relax->ExactBelow2 : 0.0;
+  const double shrink2 = relax ? relax->Shrink2 : 1.0;
   std::int64_t best = -1;
   float threshold = std::numeric_limits<float>::infinity();
+  auto tighten = [&]()
+  {
+    threshold = detail::PruneThreshold(relax && best2 > exactBelow2 ? best2 * shrink2 : best2);
+  };
+  if (start >= 0 && static_cast<std::size_t>(start) < this->Primitives.size())
+  {
+    best2 = this->Primitives[static_cast<std::size_t>(start)].SquaredDistance(x, best2);
+    best = start;
+    tighten();
+  }
+  float minPruned2 = std::numeric_limits<float>::infinity();
 
   // The query in node coordinates, as a float interval [xlo, xhi] that
   // contains the exact x - Center despite the rounding of the subtraction.
@@ -1326,6 +1418,16 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
     xlo[k] = detail::FloatDown(y - std::abs(y) * 0x1p-50);
     xhi[k] = detail::FloatUp(y + std::abs(y) * 0x1p-50);
   }
+#ifdef GRIDFREE_BVH_USE_SSE
+  __m128 qlo[DIM], qhi[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    qlo[k] = _mm_set1_ps(xlo[k]);
+    qhi[k] = _mm_set1_ps(xhi[k]);
+  }
+  const __m128 inf4 = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  __m128 pruned4 = inf4; // nearest skipped child box, per lane
+#endif
 
   Entry stack[kStackSize];
   int top = 0;
@@ -1336,10 +1438,7 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
     const Entry entry = stack[--top];
     if (entry.Key > threshold)
     {
-      if (relax)
-      {
-        relax->MinPruned2 = std::min(relax->MinPruned2, entry.Key);
-      }
+      minPruned2 = std::min(minPruned2, entry.Key);
       continue; // a closer primitive was found since this entry was pushed
     }
     std::uint32_t ref = entry.Ref;
@@ -1364,32 +1463,80 @@ std::int64_t Bvh<DIM>::FindNearest(const Vec<DIM>& x, double& best2, Relaxation*
             best = i;
           }
         }
-        threshold = detail::PruneThreshold(
-          relax && best2 > relax->ExactBelow2 ? best2 * relax->Shrink2 : best2);
+        tighten();
         break;
       }
 
+      // Children to visit: boxes within the threshold, empty slots left out
+      // (their inverted boxes may have a finite distance). Relaxed searches
+      // remember the nearest box they skip.
       const Node& node = this->Nodes[ref];
       float dist2[kWidth];
-      const int mask = BoxDistances(node, xlo, xhi, threshold, dist2);
-      // Empty slots hold an inverted box whose finite distance may pass the
-      // test: they are skipped, and are not pruned boxes either.
-      if (relax)
+      int mask = 0;
+#ifdef GRIDFREE_BVH_USE_SSE
+      const __m128 t4 = _mm_set1_ps(threshold);
+      for (int g = 0; g < kWidth / 4; ++g)
       {
-        for (int c = 0; c < kWidth; ++c)
+        __m128 d2 = _mm_setzero_ps();
+        for (int k = 0; k < DIM; ++k)
         {
-          if (!(mask >> c & 1) && node.Child[c] != kEmptyChild)
-          {
-            relax->MinPruned2 = std::min(relax->MinPruned2, dist2[c]);
-          }
+          __m128 lo, hi;
+          DecodeAxis(node, k, g, lo, hi);
+          const __m128 gap = _mm_max_ps(
+            _mm_max_ps(_mm_sub_ps(lo, qhi[k]), _mm_sub_ps(qlo[k], hi)), _mm_setzero_ps());
+          d2 = _mm_add_ps(d2, _mm_mul_ps(gap, gap));
+        }
+        _mm_storeu_ps(dist2 + 4 * g, d2);
+        const __m128 empty = _mm_castsi128_ps(_mm_cmpeq_epi32(
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(node.Child + 4 * g)),
+          _mm_set1_epi32(-1)));
+        const __m128 pass = _mm_andnot_ps(empty, _mm_cmple_ps(d2, t4));
+        mask |= _mm_movemask_ps(pass) << (4 * g);
+        // minps returns its second operand when either is NaN: the running
+        // minimum goes second so that it is never replaced by a NaN.
+        const __m128 visitedOrEmpty = _mm_or_ps(pass, empty);
+        pruned4 = _mm_min_ps(_mm_or_ps(_mm_and_ps(visitedOrEmpty, inf4),
+                               _mm_andnot_ps(visitedOrEmpty, d2)),
+          pruned4);
+      }
+#else
+      mask = BoxDistances(node, xlo, xhi, threshold, dist2);
+      for (int c = 0; c < kWidth; ++c)
+      {
+        if (node.Child[c] == kEmptyChild)
+        {
+          mask &= ~(1 << c);
+        }
+        else if (!(mask >> c & 1))
+        {
+          minPruned2 = std::min(minPruned2, dist2[c]);
         }
       }
-      ref = this->VisitSorted(node, mask, dist2, stack, top);
-      if (ref == kEmptyChild)
+#endif
+      if (mask == 0)
       {
         break;
       }
+      if ((mask & (mask - 1)) == 0) // a single child: nothing to sort or push
+      {
+        ref = node.Child[CountTrailingZeros(mask)];
+        this->Prefetch(ref);
+        continue;
+      }
+      ref = this->VisitSorted(node, mask, dist2, stack, top);
     }
+  }
+  if (relax)
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, pruned4);
+    for (const float v : lanes)
+    {
+      minPruned2 = std::min(minPruned2, v);
+    }
+#endif
+    relax->MinPruned2 = std::min(relax->MinPruned2, minPruned2);
   }
   return best;
 }
@@ -1474,11 +1621,18 @@ bool Bvh<DIM>::ValidateSubtree(
 
 //------------------------------------------------------------------------------
 template <int DIM>
-ClosestPointResult<DIM> Bvh<DIM>::ClosestPoint(const Vec<DIM>& x) const
+ClosestPointResult<DIM> Bvh<DIM>::ClosestPoint(const Vec<DIM>& x, NearestHint& hint) const
 {
   ClosestPointResult<DIM> result;
-  double best2;
-  const std::int64_t best = this->FindNearest(x, best2);
+  if (!(hint.Exact && hint.Point == x && hint.Primitive >= 0 &&
+        static_cast<std::size_t>(hint.Primitive) < this->Primitives.size()))
+  {
+    double best2;
+    hint.Primitive = this->FindNearest(x, best2, nullptr, hint.Primitive);
+    hint.Exact = true;
+    hint.Point = x;
+  }
+  const std::int64_t best = hint.Primitive;
   if (best < 0)
   {
     return result;
