@@ -721,34 +721,28 @@ private:
     }
   }
 
+#ifdef GRIDFREE_BVH_USE_SSE
+  /// Float lower bounds of the squared distances from the query interval,
+  /// broadcast per axis in qlo and qhi, to the 4 child boxes of group g.
+  static __m128 BoxDistances(const Node& node, int g, const __m128* qlo, const __m128* qhi)
+  {
+    __m128 d2 = _mm_setzero_ps();
+    for (int k = 0; k < DIM; ++k)
+    {
+      __m128 lo, hi;
+      DecodeAxis(node, k, g, lo, hi);
+      const __m128 gap = _mm_max_ps(
+        _mm_max_ps(_mm_sub_ps(lo, qhi[k]), _mm_sub_ps(qlo[k], hi)), _mm_setzero_ps());
+      d2 = _mm_add_ps(d2, _mm_mul_ps(gap, gap));
+    }
+    return d2;
+  }
+#else
   /// Float lower bounds of the squared distances from the query interval
   /// [xlo, xhi] to the child boxes; returns the mask of those <= threshold.
   static int BoxDistances(
     const Node& node, const float* xlo, const float* xhi, float threshold, float* dist2)
   {
-#ifdef GRIDFREE_BVH_USE_SSE
-    int mask = 0;
-    for (int g = 0; g < kWidth / 4; ++g)
-    {
-      auto axis = [&](int k)
-      {
-        __m128 lo, hi;
-        DecodeAxis(node, k, g, lo, hi);
-        const __m128 gap = _mm_max_ps(
-          _mm_max_ps(_mm_sub_ps(lo, _mm_set1_ps(xhi[k])), _mm_sub_ps(_mm_set1_ps(xlo[k]), hi)),
-          _mm_setzero_ps());
-        return _mm_mul_ps(gap, gap);
-      };
-      __m128 d2 = _mm_add_ps(axis(0), axis(1));
-      if constexpr (DIM == 3)
-      {
-        d2 = _mm_add_ps(d2, axis(2));
-      }
-      _mm_storeu_ps(dist2 + 4 * g, d2);
-      mask |= _mm_movemask_ps(_mm_cmple_ps(d2, _mm_set1_ps(threshold))) << (4 * g);
-    }
-    return mask;
-#else
     float lo[DIM][kWidth], hi[DIM][kWidth];
     DecodeBoxes(node, lo, hi);
     int mask = 0;
@@ -767,8 +761,8 @@ private:
       mask |= (sum <= threshold) << c;
     }
     return mask;
-#endif
   }
+#endif
 
   /// A child to visit and its sort key: a lower bound of its squared
   /// distance (closest points) or of its entry parameter (rays).
@@ -1477,15 +1471,7 @@ std::int64_t Bvh<DIM>::FindNearest(
       const __m128 t4 = _mm_set1_ps(threshold);
       for (int g = 0; g < kWidth / 4; ++g)
       {
-        __m128 d2 = _mm_setzero_ps();
-        for (int k = 0; k < DIM; ++k)
-        {
-          __m128 lo, hi;
-          DecodeAxis(node, k, g, lo, hi);
-          const __m128 gap = _mm_max_ps(
-            _mm_max_ps(_mm_sub_ps(lo, qhi[k]), _mm_sub_ps(qlo[k], hi)), _mm_setzero_ps());
-          d2 = _mm_add_ps(d2, _mm_mul_ps(gap, gap));
-        }
+        const __m128 d2 = BoxDistances(node, g, qlo, qhi);
         _mm_storeu_ps(dist2 + 4 * g, d2);
         const __m128 empty = _mm_castsi128_ps(_mm_cmpeq_epi32(
           _mm_loadu_si128(reinterpret_cast<const __m128i*>(node.Child + 4 * g)),
