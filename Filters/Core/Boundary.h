@@ -17,6 +17,7 @@
 #include "BoundaryValues.h"
 #include "Geometry/BoundaryGeometry.h"
 #include "Geometry/Bvh.h"
+#include "Geometry/DistanceBoundGrid.h"
 #include "Geometry/SidePseudonormals.h"
 #include "Vector.h"
 
@@ -183,6 +184,17 @@ public:
     {
       return std::sqrt(this->Tree.SquaredDistance(x, h));
     }
+    if (this->UseBoundGrid)
+    {
+      // Far from the mesh a cached bound usually suffices, with the same
+      // guarantee (no search, and the hint is left as it was); it is never
+      // used below epsilon.
+      const double cached = this->BoundGrid.StepBound(x, this->StepRelaxation);
+      if (cached >= epsilon)
+      {
+        return cached;
+      }
+    }
     bool exact = false;
     const double bound =
       this->Tree.DistanceLowerBound(x, this->StepRelaxation, this->RelaxAbove, exact, &h);
@@ -190,11 +202,20 @@ public:
   }
 
   // How much smaller than the distance a step may be (default 0.2: balls of
-  // at least 1/1.2 of the largest radius); 0 asks for exact distances. The
-  // relaxation only applies farther from a mesh than about one primitive
-  // size, where exact queries get expensive.
+  // at least 1/1.2 of the largest radius); 0 asks for exact distances (and
+  // leaves the bound grid unused). The hierarchy relaxes only farther from
+  // a mesh than about one primitive size, where exact queries get expensive.
   void SetStepRelaxation(double relaxation) { this->StepRelaxation = std::max(0.0, relaxation); }
   double GetStepRelaxation() const { return this->StepRelaxation; }
+
+  // Whether steps far from a mesh may take their radius from distance
+  // bounds cached on a grid (default on), when those bounds guarantee the
+  // same 1/(1 + StepRelaxation) of the distance without a search. The grid
+  // is filled when the mesh is set (DistanceBoundGrid.h); other geometries,
+  // whose distances are cheap already, have none.
+  void SetBoundGrid(bool use) { this->UseBoundGrid = use; }
+  bool GetBoundGrid() const { return this->UseBoundGrid; }
+  const DistanceBoundGrid<DIM>& StepBoundGrid() const { return this->BoundGrid; }
 
   ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const
   {
@@ -344,6 +365,7 @@ private:
     this->Shape.reset();
     this->TwoSided = false;
     this->Tree = Bvh<DIM>();
+    this->BoundGrid = DistanceBoundGrid<DIM>();
   }
 
   void SetMeshGeometry(std::vector<Vec<DIM>> vertices, std::vector<Primitive> primitives)
@@ -383,6 +405,23 @@ private:
       }
     }
     this->RelaxAbove = counted ? 1.0 * sum / static_cast<double>(counted) : 0.0;
+
+    // About one grid vertex per two primitives (at least 64, at most
+    // kBoundGridVertices): filling it costs about as much as building the
+    // hierarchy. Its bounds are relaxed queries within 5% (tighter bounds
+    // give larger steps; a relaxed query costs more as the relaxation
+    // shrinks).
+    const std::size_t gridVertices = std::min(
+      std::max<std::size_t>(this->Primitives.size() / 2, 64), kBoundGridVertices);
+    BoundingBox<DIM> box(this->Min, this->Max);
+    const Bvh<DIM>& tree = this->Tree;
+    this->BoundGrid.template Build<typename Bvh<DIM>::NearestHint>(box, gridVertices,
+      kBoundGridBoundRelaxation,
+      [&tree](const Vec<DIM>& v, typename Bvh<DIM>::NearestHint& hint)
+      {
+        bool exact = false;
+        return tree.DistanceLowerBound(v, kBoundGridBoundRelaxation, 0.0, exact, &hint);
+      });
   }
 
   void ComputeBounds()
@@ -415,8 +454,12 @@ private:
   std::vector<double> Values;
   std::shared_ptr<const BoundaryValueFunction<DIM>> ValueFunction;
   std::shared_ptr<const BoundaryGeometry<DIM>> Shape;
+  static constexpr std::size_t kBoundGridVertices = 300000;
+  static constexpr double kBoundGridBoundRelaxation = 0.05;
   double StepRelaxation = 0.2;
   double RelaxAbove = 0.0;
+  bool UseBoundGrid = true;
+  DistanceBoundGrid<DIM> BoundGrid;
   Vec<DIM> Min = Vec<DIM>::Zero();
   Vec<DIM> Max = Vec<DIM>::Zero();
   Bvh<DIM> Tree;

@@ -717,12 +717,28 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<Ta
               "icosphere: the ball of radius 0.9) and uniform inside the surface otherwise; "
               "starts \"in box\" are uniform in the bounding box, inside and outside alike.\n\n",
     allThreads);
-  PrintHeader({ "mesh", "walk", "ε", "ours 1T", "ours allT", "steps/walk" }, 3);
+  std::printf("Far from the mesh a step may take its radius from the distance bounds cached "
+              "on a grid when they guarantee the same 1/1.2 of the distance as the hierarchy's "
+              "relaxed query (Boundary::SetBoundGrid, on by default); the last two columns are the same walks without the grid. Set-up is "
+              "Boundary::Set on all threads: the hierarchy and the filling of the grid.\n\n");
+  PrintHeader({ "mesh", "walk", "ε", "ours 1T", "ours allT", "steps/walk", "no grid 1T",
+                "no grid steps/walk" },
+    3);
+  std::vector<std::string> setupRows;
   for (const Mesh& mesh : meshes)
   {
     Boundary<3> boundary;
+    const auto setStart = Clock::now();
     boundary.Set(mesh.Geometry.Vertices, mesh.Geometry.Simplices, ValueAssociation::Points, 1,
       std::vector<double>(mesh.Geometry.Vertices.size(), 1.0));
+    const double setup = Seconds(setStart);
+    const auto& grid = boundary.StepBoundGrid();
+    setupRows.push_back("| " + mesh.Name + " | " + Number(setup, "%.3f") + " | " +
+      Number(double(grid.NumberOfVertices())) + " | " +
+      Number(grid.CellSize() / boundary.Diagonal(), "%.4f") + " | " +
+      Number(double(grid.MemoryBytes()) / 1048576.0, "%.2f") + " |");
+    Boundary<3> noGrid = boundary;
+    noGrid.SetBoundGrid(false);
 
     const auto inside = MakeInsidePoints(mesh.Geometry, mesh.StartShrink, o.WalkPoints, 11);
     if (inside.empty())
@@ -734,8 +750,10 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<Ta
     {
       const double eps = 1e-3 * mesh.Scale;
       const WalkRates w = MeasureWalks(boundary, eps, inside, o);
+      const WalkRates n = MeasureWalks(noGrid, eps, inside, o);
       PrintRow({ mesh.Name, "Laplace, starts inside", "1e-3·R = " + Number(eps, "%.3g"),
-        Number(w.PerSecond.One), Number(w.PerSecond.All), Number(w.StepsPerWalk, "%.1f") });
+        Number(w.PerSecond.One), Number(w.PerSecond.All), Number(w.StepsPerWalk, "%.1f"),
+        Number(n.PerSecond.One), Number(n.StepsPerWalk, "%.1f") });
       if (mesh.WalkTarget)
       {
         targets.push_back({ mesh.Name + ": Laplace walks/s, ε = 1e-3, starts inside",
@@ -746,8 +764,17 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<Ta
     const double eps = 1e-4 * boundary.Diagonal();
     const auto inBox = MakeQueries(mesh.Geometry, false, o.WalkPoints, 11);
     const WalkRates w = MeasureWalks(boundary, eps, inBox, o);
+    const WalkRates n = MeasureWalks(noGrid, eps, inBox, o);
     PrintRow({ mesh.Name, "Laplace, starts in box", "1e-4·diagonal = " + Number(eps, "%.3g"),
-      Number(w.PerSecond.One), Number(w.PerSecond.All), Number(w.StepsPerWalk, "%.1f") });
+      Number(w.PerSecond.One), Number(w.PerSecond.All), Number(w.StepsPerWalk, "%.1f"),
+      Number(n.PerSecond.One), Number(n.StepsPerWalk, "%.1f") });
+  }
+  std::printf("\nBoundary set-up (all threads) and the bound grid: vertices, cell side "
+              "relative to the box diagonal, memory.\n\n");
+  PrintHeader({ "mesh", "set-up (s)", "grid vertices", "cell / diagonal", "grid MiB" }, 1);
+  for (const std::string& row : setupRows)
+  {
+    std::printf("%s\n", row.c_str());
   }
 }
 
