@@ -163,7 +163,8 @@ public:
   // keeps the estimator's expectation (paper Sec. 2.2: the mean-value
   // property holds on every ball), so far from a mesh this may be a cheaper
   // lower bound of the distance, at least 1 / (1 + StepRelaxation) of it
-  // (Bvh::DistanceLowerBound). It is exact whenever it is below `epsilon`,
+  // (Bvh::DistanceLowerBound), or a bound cached on a grid that guarantees
+  // as much (SetBoundGrid). It is exact whenever it is below `epsilon`,
   // so the decision to stop a walk is the same as with the exact distance.
   //
   // A walk passes its StepHint to every StepRadius and to its final
