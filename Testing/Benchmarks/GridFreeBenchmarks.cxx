@@ -719,8 +719,9 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<Ta
     allThreads);
   std::printf("Far from the mesh a step may take its radius from the distance bounds cached "
               "on a grid when they guarantee the same 1/1.2 of the distance as the hierarchy's "
-              "relaxed query (Boundary::SetBoundGrid, on by default); the last two columns are the same walks without the grid. Set-up is "
-              "Boundary::Set on all threads: the hierarchy and the filling of the grid.\n\n");
+              "relaxed query (Boundary::SetBoundGrid, on by default); the last two columns are "
+              "the same walks without the grid. Set-up is Boundary::Set on all threads: the "
+              "hierarchy and the filling of the grid.\n\n");
   PrintHeader({ "mesh", "walk", "ε", "ours 1T", "ours allT", "steps/walk", "no grid 1T",
                 "no grid steps/walk" },
     3);

@@ -5,10 +5,13 @@
 #define GRIDFREE_TESTING_RANDOMSOUPS_H
 
 #include "Geometry/Bvh.h"
+#include "Geometry/ClosestPointPrimitives.h"
 #include "Vector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -124,6 +127,34 @@ Soup<DIM> MakeSoup(int n, std::uint64_t seed)
     soup.Primitives.push_back(prim);
   }
   return soup;
+}
+//------------------------------------------------------------------------------
+// Brute-force reference: the same kernels, minimized over every primitive.
+template <int DIM>
+PrimitiveClosestPoint<DIM, DIM> KernelClosest(
+  const Soup<DIM>& soup, std::size_t p, const Vec<DIM>& x)
+{
+  const auto& prim = soup.Primitives[p];
+  if constexpr (DIM == 2)
+  {
+    return ClosestPointOnSegment<2>(x, soup.Vertices[prim[0]], soup.Vertices[prim[1]]);
+  }
+  else
+  {
+    return ClosestPointOnTriangle(
+      x, soup.Vertices[prim[0]], soup.Vertices[prim[1]], soup.Vertices[prim[2]]);
+  }
+}
+
+template <int DIM>
+double BruteForceSquaredDistance(const Soup<DIM>& soup, const Vec<DIM>& x)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t p = 0; p < soup.Primitives.size(); ++p)
+  {
+    best = std::min(best, KernelClosest(soup, p, x).squaredDistance);
+  }
+  return best;
 }
 } // namespace testing
 } // namespace gridfree

@@ -26,6 +26,8 @@
 namespace
 {
 using gridfree::Bvh;
+using gridfree::testing::BruteForceSquaredDistance;
+using gridfree::testing::KernelClosest;
 using gridfree::testing::MakeSoup;
 using gridfree::testing::Soup;
 using gridfree::ClosestPointOnSegment;
@@ -35,35 +37,6 @@ using gridfree::Vec2;
 using gridfree::Vec3;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-//------------------------------------------------------------------------------
-// Brute-force reference: the same kernels, minimized over every primitive.
-template <int DIM>
-gridfree::PrimitiveClosestPoint<DIM, DIM> KernelClosest(
-  const Soup<DIM>& soup, std::size_t p, const Vec<DIM>& x)
-{
-  const auto& prim = soup.Primitives[p];
-  if constexpr (DIM == 2)
-  {
-    return ClosestPointOnSegment<2>(x, soup.Vertices[prim[0]], soup.Vertices[prim[1]]);
-  }
-  else
-  {
-    return ClosestPointOnTriangle(
-      x, soup.Vertices[prim[0]], soup.Vertices[prim[1]], soup.Vertices[prim[2]]);
-  }
-}
-
-template <int DIM>
-double BruteForceSquaredDistance(const Soup<DIM>& soup, const Vec<DIM>& x)
-{
-  double best = kInf;
-  for (std::size_t p = 0; p < soup.Primitives.size(); ++p)
-  {
-    best = std::min(best, KernelClosest(soup, p, x).squaredDistance);
-  }
-  return best;
-}
 
 /// Queries inside the box, near the primitives (down to exactly on them) and
 /// far outside.

@@ -22,29 +22,6 @@ using namespace gridfree::testing;
 namespace
 {
 template <int DIM>
-double BruteForceDistance(
-  const std::vector<Vec<DIM>>& vertices, const std::vector<typename Bvh<DIM>::Primitive>& prims,
-  const Vec<DIM>& x)
-{
-  double best2 = std::numeric_limits<double>::infinity();
-  for (const auto& p : prims)
-  {
-    double d2;
-    if constexpr (DIM == 3)
-    {
-      d2 = SquaredDistanceToTriangle(x, vertices[p[0]], vertices[p[1]], vertices[p[2]],
-        std::numeric_limits<double>::infinity());
-    }
-    else
-    {
-      d2 = SquaredDistanceToSegment<2>(x, vertices[p[0]], vertices[p[1]]);
-    }
-    best2 = std::min(best2, d2);
-  }
-  return std::sqrt(best2);
-}
-
-template <int DIM>
 Boundary<DIM> MakeMeshBoundary(
   const std::vector<Vec<DIM>>& vertices, const std::vector<typename Bvh<DIM>::Primitive>& prims)
 {
@@ -83,7 +60,7 @@ int CheckBounds(const std::vector<Vec<DIM>>& vertices,
       continue;
     }
     ++answered;
-    const double d = BruteForceDistance<DIM>(vertices, prims, x);
+    const double d = std::sqrt(BruteForceSquaredDistance<DIM>(Soup<DIM>{ vertices, prims }, x));
     EXPECT_LE(r, d) << "an accepted radius is not an empty ball at " << x.transpose();
     EXPECT_GE(r, d / (1.0 + accept) * (1.0 - 1e-9))
       << "an accepted radius is too small at " << x.transpose();
