@@ -8,6 +8,7 @@
 #include "Boundary.h"
 #include "DerivativeWalkOnSpheres.h"
 #include "Geometry/Bvh.h"
+#include "Geometry/SimdDispatch.h"
 #include "ParallelExecution.h"
 #include "RunningStatistics.h"
 #include "WalkOnSpheres.h"
@@ -284,6 +285,11 @@ std::string Ratio(double a, double b)
   return a > 0.0 && b > 0.0 ? Number(a / b, "%.1fx") : "–";
 }
 
+std::string Gain(double a, double b)
+{
+  return a > 0.0 && b > 0.0 ? Number(a / b, "%.2fx") : "–";
+}
+
 void PrintRow(const std::vector<std::string>& cells)
 {
   std::string line = "|";
@@ -433,6 +439,7 @@ struct MeshReport
   double VtkDiff[2] = { -1.0, -1.0 };           // uniform, near surface
   double EmbreeDiff[2] = { -1.0, -1.0 };        // uniform, near surface
   double ClosestPointVsVtk[2] = { -1.0, -1.0 }; // ours/VTK, 1 thread
+  double LevelRate[2][3] = { { -1.0, -1.0, -1.0 }, { -1.0, -1.0, -1.0 } }; // per SimdLevel
 };
 
 struct Rates
@@ -488,7 +495,7 @@ void PrintQueryRow(
 
 // One query set (uniform in the box or near the surface): closest point and
 // distance only, ours / VTK / Embree, then Embree rays from the same points.
-void QuerySet(const Mesh& mesh, const Bvh<3>& tree, vtkStaticCellLocator* locator,
+void QuerySet(const Mesh& mesh, Bvh<3>& tree, vtkStaticCellLocator* locator,
   const Peer* embree, bool nearSurface, const Options& o, MeshReport& report)
 {
   const int allThreads = ResolveThreadCount(0);
@@ -517,6 +524,18 @@ void QuerySet(const Mesh& mesh, const Bvh<3>& tree, vtkStaticCellLocator* locato
   const Rates oursCp = MeasureBoth(count, allThreads, oursClosest);
   const Rates oursD = MeasureBoth(count, allThreads, oursDistance);
   report.VtkDiff[nearSurface] = MaxDifference(ours, vtk, std::min(vtkReached, count));
+
+  // The same closest-point queries with each instruction set the CPU has.
+  const gridfree::SimdLevel chosen = tree.GetSimdLevel();
+  for (const auto level :
+    { gridfree::SimdLevel::Sse2, gridfree::SimdLevel::Avx2, gridfree::SimdLevel::Avx512 })
+  {
+    if (tree.SetSimdLevel(level) == level)
+    {
+      report.LevelRate[nearSurface][static_cast<int>(level)] = RatePerSecond(count, 1, oursClosest);
+    }
+  }
+  tree.SetSimdLevel(chosen);
 
   Rates embreeCp, embreeD, rays;
   double hitFraction = -1.0;
@@ -646,6 +665,22 @@ void QueriesPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<
     PrintRow({ r.Name, Triangles(r.Triangles), Number(r.OursBuild, "%.3f"),
       Number(r.OursBytes / n, "%.1f"), Number(r.VtkBuild, "%.3f"), Number(r.EmbreeBuild, "%.3f"),
       Number(r.EmbreeBytes > 0.0 ? r.EmbreeBytes / n : -1.0, "%.1f") });
+  }
+
+  std::printf("\n## Instruction sets\n\nOur closest-point queries/s on 1 thread with the "
+              "searches compiled for each instruction set this CPU supports (\"–\": not "
+              "supported); all give the same answers. The tables above use %s, chosen at run "
+              "time (GRIDFREE_SIMD lowers it).\n\n",
+    gridfree::SimdLevelName(gridfree::DefaultSimdLevel()));
+  PrintHeader({ "mesh", "query set", "sse2", "avx2", "avx512", "avx2/sse2", "avx512/sse2" }, 2);
+  for (const MeshReport& r : reports)
+  {
+    for (int set = 0; set < 2; ++set)
+    {
+      const double* rate = r.LevelRate[set];
+      PrintRow({ r.Name, set ? "near surface" : "uniform in box", Number(rate[0]),
+        Number(rate[1]), Number(rate[2]), Gain(rate[1], rate[0]), Gain(rate[2], rate[0]) });
+    }
   }
 
   std::printf(

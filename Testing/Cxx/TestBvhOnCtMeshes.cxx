@@ -2,7 +2,8 @@
 // force: the bundled closed skin surface, and a raw bone isosurface of the
 // bundled CT volume turned into a triangle soup (every triangle with its own
 // three vertices, as raw marching-cubes output often is). Queries uniform in
-// the box, near the surface (down to exactly on a vertex) and far away.
+// the box, near the surface (down to exactly on a vertex) and far away; every
+// instruction set the CPU supports gives the same bits as the baseline.
 #include "Geometry/Bvh.h"
 #include "Geometry/ClosestPointPrimitives.h"
 
@@ -105,10 +106,15 @@ void CheckAgainstBruteForce(const Triangles& t, int perKind, unsigned seed)
     queries.push_back(onSurface + offset * direction());
     queries.push_back(box.Center() + diagonal * (1.0 + 10.0 * u(rng)) * direction());
   }
+  // The baseline instruction set against brute force; then every level the
+  // CPU supports against the baseline, bit for bit (SimdDispatch.h).
+  bvh.SetSimdLevel(gridfree::SimdLevel::Sse2);
+  std::vector<double> baseline;
   for (const Vec3& x : queries)
   {
     const double ref2 = BruteForce(t, x);
     const double d2 = bvh.SquaredDistance(x);
+    baseline.push_back(d2);
     // The same kernels: equal up to their last-bit rounding.
     ASSERT_NEAR(std::sqrt(d2), std::sqrt(ref2), 1e-12 * std::sqrt(ref2) + 1e-14 * diagonal)
       << "query " << x.transpose();
@@ -118,6 +124,26 @@ void CheckAgainstBruteForce(const Triangles& t, int perKind, unsigned seed)
     const double own =
       gridfree::SquaredDistanceToTriangle(x, t.Vertices[f[0]], t.Vertices[f[1]], t.Vertices[f[2]]);
     EXPECT_NEAR(std::sqrt(own), std::sqrt(ref2), 1e-12 * std::sqrt(ref2) + 1e-14 * diagonal);
+    baseline.push_back(r.distance);
+    baseline.insert(baseline.end(), r.point.data(), r.point.data() + 3);
+    baseline.push_back(static_cast<double>(r.primitive));
+  }
+  for (const auto level : { gridfree::SimdLevel::Avx2, gridfree::SimdLevel::Avx512 })
+  {
+    if (bvh.SetSimdLevel(level) != level)
+    {
+      continue; // not on this CPU
+    }
+    std::vector<double> answers;
+    for (const Vec3& x : queries)
+    {
+      answers.push_back(bvh.SquaredDistance(x));
+      const auto r = bvh.ClosestPoint(x);
+      answers.push_back(r.distance);
+      answers.insert(answers.end(), r.point.data(), r.point.data() + 3);
+      answers.push_back(static_cast<double>(r.primitive));
+    }
+    EXPECT_TRUE(answers == baseline) << gridfree::SimdLevelName(level) << " differs from sse2";
   }
 }
 } // namespace

@@ -39,6 +39,9 @@
 //   and Wald (2013), with exact signs for the edge functions; in 2D, exact
 //   orientation signs of the segment ends.
 //
+// * The searches are compiled for SSE2, AVX2 and AVX-512 and each hierarchy
+//   runs the best its CPU supports (SimdDispatch.h); all give the same bits.
+//
 // Limitation: box distances are computed in float, so for coordinates beyond
 // ~1e18 they may overflow to inf; the answer stays correct but pruning is lost.
 // Queries are const and allocation free: one Bvh can serve many threads.
@@ -48,6 +51,7 @@
 #include "Geometry/BoundingBox.h"
 #include "Geometry/ClosestPointResult.h"
 #include "Geometry/ClosestPointPrimitives.h"
+#include "Geometry/SimdDispatch.h"
 #include "Vector.h"
 
 #include <algorithm>
@@ -581,6 +585,17 @@ public:
       this->OriginalIds.capacity() * sizeof(std::uint32_t);
   }
 
+  /// Instruction set the searches run with (see SimdDispatch.h): by default
+  /// the best the CPU supports, lowered by GRIDFREE_SIMD. Every level gives
+  /// bit-identical answers. Setting asks for a level; the one in effect
+  /// (never above CpuSimdLevel()) is returned.
+  SimdLevel SetSimdLevel(SimdLevel level)
+  {
+    this->Simd = level < CpuSimdLevel() ? level : CpuSimdLevel();
+    return this->Simd;
+  }
+  SimdLevel GetSimdLevel() const { return this->Simd; }
+
   /// Checks the invariants that exact queries rely on: every decoded child box
   /// encloses the primitives below it (outward rounding), every primitive is
   /// in exactly one leaf of 1..kMaxLeafSize primitives, and the depth fits the
@@ -844,7 +859,34 @@ private:
   /// `start` (index into Primitives) is measured first: its distance bounds
   /// the search from the outset.
   std::int64_t FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax = nullptr,
-    std::int64_t start = -1) const;
+    std::int64_t start = -1) const
+  {
+#ifdef GRIDFREE_SIMD_DISPATCH
+    if (this->Simd == SimdLevel::Avx512)
+    {
+      return this->FindNearestAvx512(x, best2, relax, start);
+    }
+    if (this->Simd == SimdLevel::Avx2)
+    {
+      return this->FindNearestAvx2(x, best2, relax, start);
+    }
+#endif
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+  std::int64_t FindNearestBaseline(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const;
+#ifdef GRIDFREE_SIMD_DISPATCH
+  GRIDFREE_TARGET_AVX2 std::int64_t FindNearestAvx2(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
+  {
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+  GRIDFREE_TARGET_AVX512 std::int64_t FindNearestAvx512(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
+  {
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+#endif
 
   /// The ray in node coordinates, for the float box tests of RayBoxes: per
   /// axis the float bounds of the (shifted) origin to subtract from the near
@@ -932,8 +974,39 @@ private:
   /// or of the first one found if AnyHit; -1 if none.
   template <bool AnyHit>
   std::int64_t TraceRay(const Vec<DIM>& origin, const Vec<DIM>& direction, double tMin,
+    double& t, Vec<DIM>& w) const
+  {
+#ifdef GRIDFREE_SIMD_DISPATCH
+    if (this->Simd == SimdLevel::Avx512)
+    {
+      return this->template TraceRayAvx512<AnyHit>(origin, direction, tMin, t, w);
+    }
+    if (this->Simd == SimdLevel::Avx2)
+    {
+      return this->template TraceRayAvx2<AnyHit>(origin, direction, tMin, t, w);
+    }
+#endif
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+  template <bool AnyHit>
+  std::int64_t TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& direction, double tMin,
     double& t, Vec<DIM>& w) const;
+#ifdef GRIDFREE_SIMD_DISPATCH
+  template <bool AnyHit>
+  GRIDFREE_TARGET_AVX2 std::int64_t TraceRayAvx2(const Vec<DIM>& origin,
+    const Vec<DIM>& direction, double tMin, double& t, Vec<DIM>& w) const
+  {
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+  template <bool AnyHit>
+  GRIDFREE_TARGET_AVX512 std::int64_t TraceRayAvx512(const Vec<DIM>& origin,
+    const Vec<DIM>& direction, double tMin, double& t, Vec<DIM>& w) const
+  {
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+#endif
 
+  SimdLevel Simd = DefaultSimdLevel(); // instruction set of the searches
   std::vector<Node> Nodes;
   std::vector<PrimitiveData> Primitives; // in leaf order
   std::vector<std::uint32_t> OriginalIds; // leaf order -> index given to Build (< 2^28)
@@ -1379,7 +1452,7 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
 
 //------------------------------------------------------------------------------
 template <int DIM>
-std::int64_t Bvh<DIM>::FindNearest(
+std::int64_t Bvh<DIM>::FindNearestBaseline(
   const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
 {
   best2 = std::numeric_limits<double>::infinity();
@@ -1642,7 +1715,7 @@ ClosestPointResult<DIM> Bvh<DIM>::ClosestPoint(const Vec<DIM>& x, NearestHint& h
 // is rounded to a float interval that contains the exact one.
 template <int DIM>
 template <bool AnyHit>
-std::int64_t Bvh<DIM>::TraceRay(const Vec<DIM>& origin, const Vec<DIM>& direction,
+std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& direction,
   double tMin, double& t, Vec<DIM>& w) const
 {
   constexpr double inf = std::numeric_limits<double>::infinity();
