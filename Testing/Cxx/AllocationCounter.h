@@ -4,8 +4,10 @@
 // linked into with one that counts while an AllocationCounter is running, so
 // these tests are a program of their own (GridFreeAllocationTests), not part
 // of the other suites (nor of the sanitizer build, whose allocator is ASan's).
-// The core calls neither malloc nor Eigen's dynamic-size types (whose memory
-// bypasses operator new), so every allocation it makes is seen.
+// The core uses no Eigen dynamic-size types (whose memory bypasses operator
+// new) and calls the C allocator only for the BVH's node and triangle arrays
+// (posix_memalign, HugePageAllocator.h), which are filled when a boundary is
+// set, before any walk; every allocation a walk could make is seen.
 #ifndef GRIDFREE_TESTING_ALLOCATIONCOUNTER_H
 #define GRIDFREE_TESTING_ALLOCATIONCOUNTER_H
 

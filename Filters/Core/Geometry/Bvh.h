@@ -20,6 +20,8 @@
 //   closest primitive.
 // * Primitives are copied into leaf order with their vertex coordinates
 //   inlined (no index indirection), so a leaf is one contiguous memory block.
+//   Nodes and primitives live on huge pages where the system grants them
+//   (HugePageAllocator.h): fewer page walks for random queries.
 // * Primitive distances are computed in double with the kernels of
 //   ClosestPointPrimitives.h. Triangles first get a plane-distance test (a
 //   lower bound, with a margin for its own rounding) that rejects most of the
@@ -51,6 +53,7 @@
 #include "Geometry/BoundingBox.h"
 #include "Geometry/ClosestPointResult.h"
 #include "Geometry/ClosestPointPrimitives.h"
+#include "Geometry/HugePageAllocator.h"
 #include "Geometry/SimdDispatch.h"
 #include "Vector.h"
 
@@ -1007,8 +1010,10 @@ private:
 #endif
 
   SimdLevel Simd = DefaultSimdLevel(); // instruction set of the searches
-  std::vector<Node> Nodes;
-  std::vector<PrimitiveData> Primitives; // in leaf order
+  // The two arrays every search reads; huge pages where the system grants
+  // them (HugePageAllocator.h).
+  std::vector<Node, HugePageAllocator<Node>> Nodes;
+  std::vector<PrimitiveData, HugePageAllocator<PrimitiveData>> Primitives; // in leaf order
   std::vector<std::uint32_t> OriginalIds; // leaf order -> index given to Build (< 2^28)
   BoundingBox<DIM> Box;
   Vec<DIM> Center = Vec<DIM>::Zero(); // origin of the node coordinates
