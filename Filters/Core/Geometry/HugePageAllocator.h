@@ -40,6 +40,7 @@ inline std::size_t HugePageRoundedBytes(std::size_t bytes)
 /// throws std::bad_alloc. Release with FreeHugePageBlock.
 inline void* AllocateHugePageBlock(std::size_t bytes, std::size_t alignment)
 {
+#if defined(__linux__)
   const bool huge = bytes >= kHugePageBytes;
   const std::size_t rounded = HugePageRoundedBytes(bytes);
   std::size_t align = huge ? kHugePageBytes : alignment;
@@ -52,7 +53,7 @@ inline void* AllocateHugePageBlock(std::size_t bytes, std::size_t alignment)
   {
     throw std::bad_alloc();
   }
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+#if defined(MADV_HUGEPAGE)
   if (huge)
   {
     // Advice only: failure (e.g. THP compiled out) leaves ordinary pages.
@@ -60,11 +61,20 @@ inline void* AllocateHugePageBlock(std::size_t bytes, std::size_t alignment)
   }
 #endif
   return p;
+#else
+  // Elsewhere: the ordinary aligned allocation (no huge-page advice).
+  return ::operator new(bytes, std::align_val_t(alignment));
+#endif
 }
 
-inline void FreeHugePageBlock(void* p) noexcept
+inline void FreeHugePageBlock(void* p, std::size_t alignment) noexcept
 {
+#if defined(__linux__)
+  (void)alignment;
   std::free(p);
+#else
+  ::operator delete(p, std::align_val_t(alignment));
+#endif
 }
 } // namespace detail
 
@@ -88,7 +98,7 @@ struct HugePageAllocator
     }
     return static_cast<T*>(detail::AllocateHugePageBlock(n * sizeof(T), alignof(T)));
   }
-  void deallocate(T* p, std::size_t) noexcept { detail::FreeHugePageBlock(p); }
+  void deallocate(T* p, std::size_t) noexcept { detail::FreeHugePageBlock(p, alignof(T)); }
 
   template <typename U>
   bool operator==(const HugePageAllocator<U>&) const noexcept
