@@ -1,8 +1,8 @@
 #include "GridFreeBoundaryConversion.h"
 
-#include "BezierBoundaryValues.h"
-#include "Geometry/BezierCurves.h"
-#include "Geometry/WeldVertices.h"
+#include <gridfree/boundary/BezierBoundaryValues.h>
+#include <gridfree/geometry/BezierCurves.h>
+#include <gridfree/geometry/WeldVertices.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"

@@ -17,7 +17,7 @@
 #ifndef GridFreeBoundaryConversion_h
 #define GridFreeBoundaryConversion_h
 
-#include "Boundary.h"
+#include <gridfree/boundary/Boundary.h>
 
 #include <memory>
 #include <string>

@@ -2,8 +2,8 @@
 
 #include "GridFreeBoundaryConversion.h"
 
-#include "Geometry/ImplicitBoundary.h"
-#include "Geometry/MeshSignedDistance.h"
+#include <gridfree/implicit/ImplicitBoundary.h>
+#include <gridfree/implicit/MeshSignedDistance.h>
 
 #include "vtkDataArray.h"
 #include "vtkPolyData.h"

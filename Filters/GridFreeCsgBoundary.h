@@ -15,9 +15,9 @@
 #ifndef GridFreeCsgBoundary_h
 #define GridFreeCsgBoundary_h
 
-#include "Boundary.h"
-#include "Geometry/CsgFunctions.h"
-#include "Geometry/SignedDistance.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/SignedDistance.h>
 
 #include <memory>
 #include <string>

@@ -1,6 +1,6 @@
 #include "GridFreeImplicitBoundary.h"
 
-#include "Geometry/CsgFunctions.h"
+#include <gridfree/implicit/CsgFunctions.h>
 #include "vtkSignedDistancePrimitiveInternals.h"
 
 #include "vtkAbstractTransform.h"

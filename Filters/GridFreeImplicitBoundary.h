@@ -9,7 +9,7 @@
 #ifndef GridFreeImplicitBoundary_h
 #define GridFreeImplicitBoundary_h
 
-#include "Geometry/SignedDistance.h"
+#include <gridfree/implicit/SignedDistance.h>
 
 #include "vtkSmartPointer.h"
 

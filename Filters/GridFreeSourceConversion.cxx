@@ -614,7 +614,7 @@ Vec<DIM> PointOf(vtkDataSet* data, vtkIdType id)
 // point array. Polygons and strips carry no point or curve measure.
 template <int DIM>
 bool ConvertConcentrated(vtkPolyData* poly, vtkDataArray* array, int components,
-  SourceDescription<DIM>& out, std::string& reason)
+  SourceSet<DIM>& out, std::string& reason)
 {
   const int nc = array->GetNumberOfComponents();
   auto strength = [&](vtkIdType id, std::vector<double>& dst) {
@@ -737,7 +737,7 @@ const char* SourceOperatorName(SourceOperator op)
 
 template <int DIM>
 bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
-  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason,
+  int components, double planeZ, SourceSet<DIM>& out, std::string& reason,
   SourceOperator op)
 {
   const bool differentiate = op != SourceOperator::Value;
@@ -910,7 +910,7 @@ template std::function<std::unique_ptr<VolumeSource<3>>()> MakeExpressionListFac
   const std::vector<std::string>&, double);
 
 template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
-  SourceDescription<2>&, std::string&, SourceOperator);
+  SourceSet<2>&, std::string&, SourceOperator);
 template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int, double,
-  SourceDescription<3>&, std::string&, SourceOperator);
+  SourceSet<3>&, std::string&, SourceOperator);
 } // namespace gridfree

@@ -13,9 +13,8 @@
 #ifndef GridFreeSourceConversion_h
 #define GridFreeSourceConversion_h
 
-#include "ConcentratedSources.h"
-#include "DifferentialOperatorSource.h"
-#include "SourceTerms.h"
+#include <gridfree/sources/DifferentialOperatorSource.h>
+#include <gridfree/sources/SourceSet.h>
 
 #include <functional>
 #include <memory>
@@ -27,36 +26,6 @@ class vtkDataSet;
 
 namespace gridfree
 {
-// Makes one thread's volume source. lengthScale is the problem's size (the
-// boundary's bounding-box diagonal): sources without an exact gradient (the
-// expression) differentiate by central differences with step
-// 1e-5·lengthScale; a lengthScale that is not positive keeps VolumeSource's
-// default step, 1e-5·max(1, |y|∞). Interpolated data (images, other
-// datasets) have exact gradients and ignore it.
-template <int DIM>
-using VolumeSourceFactory = std::function<std::unique_ptr<VolumeSource<DIM>>(double lengthScale)>;
-
-template <int DIM>
-struct SourceDescription
-{
-  std::unique_ptr<PointSources<DIM>> Points;
-  std::unique_ptr<CurveSources<DIM>> Curves;
-  // Makes one thread's volume source (sum of dataset and expression); empty
-  // when there is no volume source.
-  VolumeSourceFactory<DIM> MakeVolume;
-  // What was found, for the filter's messages.
-  long long IgnoredSurfaceCells = 0;
-
-  bool Empty() const { return !this->Points && !this->Curves && !this->MakeVolume; }
-  ConcentratedSourceSet<DIM> Concentrated() const
-  {
-    ConcentratedSourceSet<DIM> set;
-    set.Points = this->Points.get();
-    set.Curves = this->Curves.get();
-    return set;
-  }
-};
-
 // SourceOperator (DifferentialOperatorSource.h): the data themselves, or the
 // divergence or curl of the vector field they give. Its values match
 // vtkWalkOnSpheresSolver's SourceOperator.
@@ -74,13 +43,13 @@ const char* SourceOperatorName(SourceOperator op);
 // used.
 template <int DIM>
 bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression,
-  int components, double planeZ, SourceDescription<DIM>& out, std::string& reason,
+  int components, double planeZ, SourceSet<DIM>& out, std::string& reason,
   SourceOperator op = SourceOperator::Value);
 
 extern template bool ConvertSource<2>(vtkDataSet*, vtkDataArray*, const std::string&, int,
-  double, SourceDescription<2>&, std::string&, SourceOperator);
+  double, SourceSet<2>&, std::string&, SourceOperator);
 extern template bool ConvertSource<3>(vtkDataSet*, vtkDataArray*, const std::string&, int,
-  double, SourceDescription<3>&, std::string&, SourceOperator);
+  double, SourceSet<3>&, std::string&, SourceOperator);
 
 // Makes one thread's source of len(expressions) components, component c
 // being expressions[c] in x, y, z (in 2D sampled in the plane z = planeZ).

@@ -14,7 +14,7 @@
 #ifndef GridFreeVisibleNeighbours_h
 #define GridFreeVisibleNeighbours_h
 
-#include "Boundary.h"
+#include <gridfree/boundary/Boundary.h>
 
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"

@@ -5,8 +5,8 @@
 #include "GridFreeWholeInputRequest.h"
 
 #include "GridFreeVisibleNeighbours.h"
-#include "MovingLeastSquares.h"
-#include "ParallelExecution.h"
+#include <gridfree/applications/MovingLeastSquares.h>
+#include <gridfree/execution/ParallelExecution.h>
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"

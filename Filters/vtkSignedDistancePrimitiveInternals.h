@@ -6,7 +6,7 @@
 #ifndef vtkSignedDistancePrimitiveInternals_h
 #define vtkSignedDistancePrimitiveInternals_h
 
-#include "Geometry/SignedDistanceFunctions.h"
+#include <gridfree/implicit/SignedDistanceFunctions.h>
 
 #include <cmath>
 #include <limits>

@@ -4,10 +4,10 @@
 
 #include "vtkWalkOnSpheresSolver.h"
 
-#include "AdaptiveSampling.h"
+#include <gridfree/applications/AdaptiveSampling.h>
 #include "GridFreeMessageCollector.h"
 #include "GridFreeVisibleNeighbours.h"
-#include "ParallelExecution.h"
+#include <gridfree/execution/ParallelExecution.h>
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"

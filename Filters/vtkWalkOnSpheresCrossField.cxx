@@ -1,6 +1,6 @@
 #include "vtkWalkOnSpheresCrossField.h"
 
-#include "CrossField.h"
+#include <gridfree/applications/CrossField.h>
 #include "GridFreeArrays.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"

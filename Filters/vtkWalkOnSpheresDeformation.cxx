@@ -1,6 +1,6 @@
 #include "vtkWalkOnSpheresDeformation.h"
 
-#include "DeformationBoundaryData.h"
+#include <gridfree/applications/DeformationBoundaryData.h>
 #include "GridFreeArrays.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"

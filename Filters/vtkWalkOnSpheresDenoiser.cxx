@@ -2,8 +2,8 @@
 
 #include "GridFreeArrays.h"
 
-#include "JointBilateralDenoising.h"
-#include "ParallelExecution.h"
+#include <gridfree/applications/JointBilateralDenoising.h>
+#include <gridfree/execution/ParallelExecution.h>
 
 #include "vtkAbstractArray.h"
 #include "vtkCellData.h"

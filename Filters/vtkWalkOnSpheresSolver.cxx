@@ -5,18 +5,19 @@
 #include "GridFreePieceGather.h"
 #include "GridFreeWholeInputRequest.h"
 
-#include "Geometry/ImplicitBoundary.h"
+#include <gridfree/implicit/ImplicitBoundary.h>
 #include "GridFreeBoundaryConversion.h"
 #include "GridFreeCsgBoundary.h"
 #include "GridFreeImplicitBoundary.h"
 #include "GridFreeSourceConversion.h"
-#include "ParallelExecution.h"
+#include <gridfree/execution/ParallelExecution.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include "RunningStatistics.h"
-#include "RunningSumsCache.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/statistics/RunningSumsCache.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/problem/Problem.h>
 
 #include "vtkAbstractArray.h"
 #include "vtkAlgorithmOutput.h"
@@ -82,12 +83,6 @@ constexpr int SourcePort = 2;
 constexpr double kRateSeconds = 1.0;
 constexpr double kLongSolveSeconds = 120.0;
 
-// Walks of one point run in chunks of this many, with a check for abort in
-// between: a point with millions of walks must not make abort wait for it.
-// A multiple of the derivative estimator's control blocks (256), so chunks
-// give the same numbers as one call.
-constexpr int kChunkWalks = 1024;
-
 // "3 minutes", "5 hours", "2 days": a projected solve time for a message.
 std::string DescribeDuration(double seconds)
 {
@@ -108,39 +103,6 @@ std::string DescribeDuration(double seconds)
     }
   }
   return std::to_string(static_cast<long long>(seconds + 0.5)) + " seconds";
-}
-
-// Runs walks number `from` to `to` - 1 of one point into stats/counters in
-// chunks of kChunkWalks, adding each finished chunk to `done` and stopping
-// between chunks when `cancel` is set. Returns false if they were not all
-// run; `status` receives the derivative estimator's status (unset
-// otherwise). `from` must be a multiple of the estimator's control block.
-template <class Estimator, class Status>
-bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed, int from,
-  int to, gridfree::RunningStatistics& stats, gridfree::WalkCounters& counters,
-  const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, Status& status)
-{
-  for (int first = from; first < to; first += kChunkWalks)
-  {
-    if (first > from && cancel.load(std::memory_order_relaxed))
-    {
-      return false;
-    }
-    const int count = std::min(kChunkWalks, to - first);
-    using Result = decltype(estimator.EstimatePoint(
-      xyz, seed, std::uint64_t(0), count, stats, counters));
-    if constexpr (std::is_void_v<Result>)
-    {
-      estimator.EstimatePoint(xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
-    }
-    else
-    {
-      status = estimator.EstimatePoint(
-        xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
-    }
-    done.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
-  }
-  return true;
 }
 
 // The derivative outputs of one solve: gradient (3 per component), Hessian
@@ -382,6 +344,34 @@ struct vtkWalkOnSpheresSolverCache
   vtkMTimeType Settings = 0;
   std::vector<std::uint64_t> Inputs;
 
+  // The last boundary built (mesh, hierarchy, bound grid and values) and
+  // what it was built from (BoundaryKey): a solve whose boundary inputs and
+  // boundary settings did not change reuses it, so moving the probe, raising
+  // the walks or refining never rebuilds the hierarchy.
+  std::vector<std::uint64_t> BoundaryKey;
+  std::shared_ptr<const gridfree::Boundary<2>> Boundary2;
+  std::shared_ptr<const gridfree::Boundary<3>> Boundary3;
+
+  template <int DIM>
+  std::shared_ptr<const gridfree::Boundary<DIM>>& CachedBoundary()
+  {
+    if constexpr (DIM == 2)
+    {
+      return this->Boundary2;
+    }
+    else
+    {
+      return this->Boundary3;
+    }
+  }
+
+  void ForgetBoundary()
+  {
+    this->BoundaryKey.clear();
+    this->Boundary2.reset();
+    this->Boundary3.reset();
+  }
+
   // `gathered`: the signature of the pieces gathered from other ranks (0 in
   // a serial run).
   static std::vector<std::uint64_t> Fingerprint(
@@ -438,6 +428,8 @@ struct vtkWalkOnSpheresSolverInputs
   vtkDataSet* Probe = nullptr;
   vtkDataSet* Output = nullptr;
   std::string Name;
+  // What the core boundary is built from (vtkWalkOnSpheresSolverCache).
+  std::vector<std::uint64_t> BoundaryKey;
 };
 
 // Runs the estimator of one dimension over the probe points and fills the
@@ -701,12 +693,23 @@ class vtkWalkOnSpheresSolverRunner
 public:
   static bool Run(vtkWalkOnSpheresSolver* self, const vtkWalkOnSpheresSolverInputs& in)
   {
-    gridfree::Boundary<DIM> geometry;
-    if (!BuildBoundary(self, in, geometry))
+    std::shared_ptr<const gridfree::Boundary<DIM>>& cached =
+      self->Cache->template CachedBoundary<DIM>();
+    if (!cached || self->Cache->BoundaryKey != in.BoundaryKey)
     {
-      return false;
+      self->Cache->ForgetBoundary(); // frees the old hierarchy before building
+      auto built = std::make_shared<gridfree::Boundary<DIM>>();
+      if (!BuildBoundary(self, in, *built))
+      {
+        return false;
+      }
+      built->SetTwoSided(in.TwoSided);
+      cached = built;
+      self->Cache->BoundaryKey = in.BoundaryKey;
+      self->LastBoundaryBuilt = true;
     }
-    geometry.SetTwoSided(in.TwoSided);
+    const std::shared_ptr<const gridfree::Boundary<DIM>> shared = cached;
+    const gridfree::Boundary<DIM>& geometry = *shared;
     std::string reason;
 
     gridfree::WalkSettings settings;
@@ -742,7 +745,8 @@ public:
     const int nc = biharmonic ? geometry.Components() / 2 : geometry.Components();
 
     // Sources (only for the equations that have them; RequestData warned otherwise).
-    gridfree::SourceDescription<DIM> sources;
+    auto sourceSet = std::make_shared<gridfree::SourceSet<DIM>>();
+    gridfree::SourceSet<DIM>& sources = *sourceSet;
     if (gridfree::WalkOnSpheresEstimator<DIM>::UsesSources(settings.Problem))
     {
       if (!gridfree::ConvertSource<DIM>(in.Source, in.SourceArray, in.Expression, nc,
@@ -760,7 +764,8 @@ public:
                                            "(lines) only.");
       }
     }
-    const gridfree::ConcentratedSourceSet<DIM> concentrated = sources.Concentrated();
+    // The problem: boundary, equation and sources, answered in one batch.
+    const gridfree::Problem<DIM> problem(shared, settings, sourceSet);
 
     const vtkIdType numPoints = in.Probe->GetNumberOfPoints();
     std::vector<std::array<double, 3>> points(static_cast<std::size_t>(numPoints));
@@ -831,8 +836,6 @@ public:
     request.Direction = { self->DerivativeDirection[0], self->DerivativeDirection[1],
       self->DerivativeDirection[2] };
     request.DivergenceCurl = self->ComputeGradient && nc == 3;
-    const bool derivativeWalks = request.Gradient || request.Hessian || request.Directional ||
-      request.ControlVariates;
     const bool anyDerivative = request.Gradient || request.Hessian || request.Directional;
     DerivativeArrays derivatives;
     if (anyDerivative)
@@ -840,89 +843,32 @@ public:
       derivatives.Allocate(in.Name, nc, numPoints, request);
     }
 
-    const int walks = self->WalksPerPoint;
-    const std::uint64_t seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(self->Seed));
-    std::mutex totalsMutex;
-    gridfree::WalkCounters totals;
-    std::array<vtkIdType, 3> statusCounts = { 0, 0, 0 };
-    bool unboundedSource = false;
+    gridfree::BatchRequest batch;
+    batch.WalksPerPoint = self->WalksPerPoint;
+    batch.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(self->Seed));
+    batch.Threads = self->NumberOfThreads;
+    batch.Derivatives = request;
+    const int walks = batch.WalksPerPoint;
 
-    // Few points, several threads: spread each point's walks over the
-    // threads in blocks, each block recorded and then replayed in walk order,
-    // so the numbers are bit for bit those of one thread. Blocks of the
-    // derivative estimator are its control blocks, whose control variates
-    // only use the walks before them in the same block.
-    const int blockWalks =
-      derivativeWalks ? gridfree::DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
-    const int threadCount = gridfree::ResolveThreadCount(self->NumberOfThreads);
-    // The layout depends on which sources are active: ask an estimator made
-    // like the workers' ones.
-    gridfree::SampleLayout layout;
-    if (derivativeWalks)
-    {
-      std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-        sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
-      layout = gridfree::DerivativeWalkOnSpheres<DIM>(
-        geometry, settings, request, volume.get(), concentrated)
-                 .Layout();
-    }
-    const int sampleSize = derivativeWalks ? layout.Size : outputComponents;
-
-    // Progressive refinement: continue from the running sums the last solve
-    // kept (RequestData forgot them if anything but WalksPerPoint changed),
-    // and keep this solve's at its last control block boundary (every walk
-    // for the plain estimator, whose walks are independent).
+    // Progressive refinement: the batch continues from the running sums the
+    // last solve kept (RequestData forgot them if anything but
+    // WalksPerPoint changed) and keeps its own.
     gridfree::RunningSumsCache& kept = self->Cache->Sums;
-    const int resumeBlock = derivativeWalks ? blockWalks : 1;
-    const auto pointCount = static_cast<std::size_t>(numPoints);
-    const bool resumed = self->KeepRunningSums &&
-      kept.CanResume(pointCount, sampleSize, resumeBlock, static_cast<std::uint64_t>(walks));
-    if (!resumed)
+    if (!self->KeepRunningSums)
     {
       kept.Clear();
-      if (self->KeepRunningSums)
-      {
-        kept.Reset(pointCount, sampleSize, resumeBlock);
-      }
     }
-    const int startWalks = resumed ? static_cast<int>(kept.KeptWalks()) : 0;
-    const int keepAt = self->KeepRunningSums
-      ? static_cast<int>(kept.ResumePoint(static_cast<std::uint64_t>(walks)))
-      : -1;
-    self->LastResumedWalksPerPoint = startWalks;
-    // Starts point i's sums: the kept ones, or none.
-    auto startPoint = [&](std::size_t i, gridfree::RunningStatistics& stats,
-                        gridfree::WalkCounters& counters, unsigned char& status) {
-      stats.Reset();
-      counters = gridfree::WalkCounters();
-      status = 0;
-      if (resumed)
-      {
-        kept.Load(i, stats, counters, status);
-      }
-    };
 
-    const std::size_t blocksPerPoint =
-      static_cast<std::size_t>((walks - startWalks + blockWalks - 1) / blockWalks);
-    const bool walkLevel = threadCount > 1 && numPoints < 2 * threadCount && blocksPerPoint > 1 &&
-      static_cast<double>(numPoints) * (walks - startWalks) * sampleSize <= 16.0 * 1024 * 1024;
-
-    const auto start = std::chrono::steady_clock::now();
     // Progress counts walks, so that a few points with very many walks each
     // still report it; once the rate is known, a solve projected to take
     // long is announced (abort stays possible: walks run in chunks that
-    // check for it, see EstimateInChunks).
-    const double totalWalks = static_cast<double>(numPoints) * static_cast<double>(walks - startWalks);
-    std::atomic<std::uint64_t> walksDone{ 0 };
+    // check for it).
     bool announced = false;
-    auto reportProgress = [&](double fraction) {
-      const double done = static_cast<double>(walksDone.load(std::memory_order_relaxed));
-      const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (!announced && done > 0.0 && elapsed >= kRateSeconds)
+    auto reportProgress = [&](const gridfree::BatchProgress& p) {
+      if (!announced && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
       {
         announced = true;
-        const double projected = elapsed * totalWalks / done;
+        const double projected = p.Seconds * p.WalksToRun / static_cast<double>(p.WalksRun);
         if (projected >= kLongSolveSeconds)
         {
           vtkWarningWithObjectMacro(self, << "This solve will take about "
@@ -932,234 +878,47 @@ public:
                                              "probe's resolution, or abort it.");
         }
       }
-      self->UpdateProgress(
-        std::max(fraction, totalWalks > 0.0 ? std::min(1.0, done / totalWalks) : 1.0));
+      self->UpdateProgress(p.Fraction);
       return !self->GetAbortExecute();
     };
 
-    // Copies one point's statistics to the output arrays.
-    auto storePoint = [&](vtkIdType i, const gridfree::RunningStatistics& stats, int valueAt,
-                        int laplacianAt, const gridfree::WalkCounters& counters) {
+    // Copies one finished point's statistics to the output arrays (called
+    // for distinct points at once from worker threads).
+    const gridfree::SampleLayout layout = problem.Layout(batch);
+    auto storePoint = [&](std::size_t at, const gridfree::RunningStatistics& stats,
+                        const gridfree::WalkCounters& counters, gridfree::DerivativeStatus status) {
+      const auto i = static_cast<vtkIdType>(at);
       for (int c = 0; c < nc; ++c)
       {
-        mean->SetValue(i * nc + c, stats.GetMean(valueAt + c));
-        variance->SetValue(i * nc + c, stats.VarianceOfMean(valueAt + c));
+        mean->SetValue(i * nc + c, stats.GetMean(layout.Value + c));
+        variance->SetValue(i * nc + c, stats.VarianceOfMean(layout.Value + c));
         if (biharmonic)
         {
-          laplacian->SetValue(i * nc + c, stats.GetMean(laplacianAt + c));
-          laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(laplacianAt + c));
+          laplacian->SetValue(i * nc + c, stats.GetMean(layout.Laplacian + c));
+          laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(layout.Laplacian + c));
         }
       }
       steps->SetValue(i, counters.MeanSteps());
       escaped->SetValue(i, counters.EscapedFraction());
       truncated->SetValue(i, counters.TruncatedFraction());
+      if (anyDerivative)
+      {
+        derivatives.Store<DIM>(at, stats, layout, nc, static_cast<int>(status));
+      }
     };
 
-    bool completed = false;
-    if (walkLevel)
-    {
-      const std::size_t items = static_cast<std::size_t>(numPoints) * blocksPerPoint;
-      std::vector<gridfree::SampleRecorder> recorders(items, gridfree::SampleRecorder(sampleSize));
-      std::vector<gridfree::WalkCounters> blockCounters(items);
-      std::vector<char> blockDone(items, 0);
-      std::vector<gridfree::DerivativeStatus> pointStatus(
-        static_cast<std::size_t>(numPoints), gridfree::DerivativeStatus::Interior);
-      completed = gridfree::ParallelForWithProgress(
-        items, self->NumberOfThreads,
-        [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
-          std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-            sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
-          auto runBlocks = [&](auto& estimator) {
-            for (std::size_t item = begin;
-                 item < end && !cancel.load(std::memory_order_relaxed); ++item)
-            {
-              const std::size_t i = item / blocksPerPoint;
-              const int first = startWalks + static_cast<int>(item % blocksPerPoint) * blockWalks;
-              const int count = std::min(blockWalks, walks - first);
-              recorders[item].Reserve(static_cast<std::size_t>(count));
-              using Result = decltype(estimator.EstimatePoint(points[i].data(), seed,
-                std::uint64_t(0), count, recorders[item], blockCounters[item]));
-              if constexpr (std::is_void_v<Result>)
-              {
-                estimator.EstimatePoint(points[i].data(), seed, static_cast<std::uint64_t>(first),
-                  count, recorders[item], blockCounters[item]);
-              }
-              else
-              {
-                // The status is the same for every block of a point.
-                pointStatus[i] = estimator.EstimatePoint(points[i].data(), seed,
-                  static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
-              }
-              blockDone[item] = 1;
-              walksDone.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
-            }
-            if (!estimator.SourceSupportIsBounded())
-            {
-              std::lock_guard<std::mutex> lock(totalsMutex);
-              unboundedSource = true;
-            }
-          };
-          if (derivativeWalks)
-          {
-            gridfree::DerivativeWalkOnSpheres<DIM> estimator(
-              geometry, settings, request, volume.get(), concentrated);
-            runBlocks(estimator);
-          }
-          else
-          {
-            gridfree::WalkOnSpheresEstimator<DIM> estimator(
-              geometry, settings, volume.get(), concentrated);
-            runBlocks(estimator);
-          }
-        },
-        reportProgress, 0.1, 1);
-      gridfree::RunningStatistics stats(sampleSize);
-      const int valueAt = derivativeWalks ? layout.Value : 0;
-      const int laplacianAt = derivativeWalks ? layout.Laplacian : nc;
-      for (vtkIdType i = 0; i < numPoints; ++i)
-      {
-        const std::size_t firstItem = static_cast<std::size_t>(i) * blocksPerPoint;
-        bool reached = true;
-        for (std::size_t b = 0; b < blocksPerPoint; ++b)
-        {
-          reached = reached && blockDone[firstItem + b];
-        }
-        if (!reached)
-        {
-          continue; // aborted: the point keeps its NaN
-        }
-        gridfree::WalkCounters counters;
-        unsigned char keptStatus = 0;
-        startPoint(static_cast<std::size_t>(i), stats, counters, keptStatus);
-        int walksSoFar = startWalks;
-        for (std::size_t b = 0; b < blocksPerPoint; ++b)
-        {
-          if (walksSoFar == keepAt)
-          {
-            kept.Save(static_cast<std::size_t>(i), stats, counters,
-              static_cast<unsigned char>(pointStatus[static_cast<std::size_t>(i)]));
-          }
-          recorders[firstItem + b].ReplayInto(stats);
-          counters.Add(blockCounters[firstItem + b]);
-          walksSoFar += static_cast<int>(recorders[firstItem + b].SampleCount());
-        }
-        if (walksSoFar == keepAt)
-        {
-          kept.Save(static_cast<std::size_t>(i), stats, counters,
-            static_cast<unsigned char>(pointStatus[static_cast<std::size_t>(i)]));
-        }
-        storePoint(i, stats, valueAt, laplacianAt, counters);
-        if (derivativeWalks)
-        {
-          const int status = static_cast<int>(pointStatus[static_cast<std::size_t>(i)]);
-          statusCounts[status] += 1;
-          if (anyDerivative)
-          {
-            derivatives.Store<DIM>(i, stats, layout, nc, status);
-          }
-        }
-        totals.Add(counters);
-      }
-    }
-    else
-    {
-      completed = gridfree::ParallelForWithProgress(
-        static_cast<std::size_t>(numPoints), self->NumberOfThreads,
-        [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
-          std::unique_ptr<gridfree::VolumeSource<DIM>> volume =
-            sources.MakeVolume ? sources.MakeVolume(diagonal) : nullptr;
-          gridfree::WalkCounters sum;
-          std::array<vtkIdType, 3> counts = { 0, 0, 0 };
-          bool bounded = true;
-          // Stores a finished point and adds its counters to this range's.
-          auto store = [&](std::size_t i, const gridfree::RunningStatistics& stats, int valueAt,
-                         int laplacianAt, const gridfree::WalkCounters& counters) {
-            storePoint(static_cast<vtkIdType>(i), stats, valueAt, laplacianAt, counters);
-            sum.Add(counters);
-          };
-          if (derivativeWalks)
-          {
-            gridfree::DerivativeWalkOnSpheres<DIM> estimator(
-              geometry, settings, request, volume.get(), concentrated);
-            const gridfree::SampleLayout& layout = estimator.Layout();
-            gridfree::RunningStatistics stats(layout.Size);
-            for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
-            {
-              gridfree::WalkCounters counters;
-              unsigned char keptStatus = 0;
-              startPoint(i, stats, counters, keptStatus);
-              auto status = static_cast<gridfree::DerivativeStatus>(keptStatus);
-              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks,
-                    std::max(keepAt, startWalks), stats, counters, cancel, walksDone, status))
-              {
-                break; // aborted: the point keeps its NaN
-              }
-              if (keepAt >= startWalks)
-              {
-                kept.Save(i, stats, counters, static_cast<unsigned char>(status));
-              }
-              if (!EstimateInChunks(estimator, points[i].data(), seed,
-                    std::max(keepAt, startWalks), walks, stats, counters, cancel, walksDone,
-                    status))
-              {
-                break;
-              }
-              counts[static_cast<int>(status)] += 1;
-              store(i, stats, layout.Value, layout.Laplacian, counters);
-              if (anyDerivative)
-              {
-                derivatives.Store<DIM>(i, stats, layout, nc, static_cast<int>(status));
-              }
-            }
-            bounded = estimator.SourceSupportIsBounded();
-          }
-          else
-          {
-            gridfree::WalkOnSpheresEstimator<DIM> estimator(
-              geometry, settings, volume.get(), concentrated);
-            gridfree::RunningStatistics stats(outputComponents);
-            for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
-            {
-              gridfree::WalkCounters counters;
-              unsigned char noStatus = 0;
-              startPoint(i, stats, counters, noStatus);
-              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, walks, stats,
-                    counters, cancel, walksDone, noStatus))
-              {
-                break; // aborted: the point keeps its NaN
-              }
-              if (keepAt == walks)
-              {
-                kept.Save(i, stats, counters, 0);
-              }
-              store(i, stats, 0, nc, counters);
-            }
-            bounded = estimator.SourceSupportIsBounded();
-          }
-          std::lock_guard<std::mutex> lock(totalsMutex);
-          totals.Add(sum);
-          for (int k = 0; k < 3; ++k)
-          {
-            statusCounts[k] += counts[k];
-          }
-          unboundedSource = unboundedSource || !bounded;
-        },
-        reportProgress);
-    }
-    const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const gridfree::BatchSummary summary = problem.Estimate(
+      points, batch, storePoint, reportProgress, self->KeepRunningSums ? &kept : nullptr);
+    const bool completed = summary.Completed;
+    const gridfree::WalkCounters& totals = summary.Totals;
+    const std::array<std::uint64_t, 3>& statusCounts = summary.StatusCounts;
+    const bool unboundedSource = summary.UnboundedSource;
+    const int startWalks = summary.ResumedWalksPerPoint;
+    self->LastResumedWalksPerPoint = startWalks;
+    const double seconds = summary.Seconds;
 
     // Walks run now; the output stands for totals.Walks (kept ones included).
-    self->LastNumberOfWalks = static_cast<vtkIdType>(walksDone.load());
-    // Kept sums are whole only after a complete solve.
-    if (completed && keepAt > 0)
-    {
-      kept.SetKeptWalks(static_cast<std::uint64_t>(keepAt));
-    }
-    else
-    {
-      kept.Clear();
-    }
+    self->LastNumberOfWalks = static_cast<vtkIdType>(summary.WalksRun);
     self->LastSolveSeconds = seconds;
     self->LastDimension = DIM;
 
@@ -1764,9 +1523,72 @@ public:
 };
 
 //------------------------------------------------------------------------------
+std::vector<std::uint64_t> vtkWalkOnSpheresSolver::BoundaryKey(vtkDataObject* boundaryPiece,
+  std::uint64_t gathered, int dimension, const vtkWalkOnSpheresSolverInputs& in,
+  vtkDataSet* regionProbe)
+{
+  std::vector<std::uint64_t> key{ static_cast<std::uint64_t>(dimension), gathered };
+  auto addString = [&key](const std::string& s) {
+    key.push_back(s.size());
+    for (std::size_t at = 0; at < s.size(); at += 8)
+    {
+      std::uint64_t word = 0;
+      std::memcpy(&word, s.data() + at, std::min<std::size_t>(8, s.size() - at));
+      key.push_back(word);
+    }
+  };
+  auto addDouble = [&key](double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    key.push_back(bits);
+  };
+  for (vtkObject* object : { static_cast<vtkObject*>(boundaryPiece),
+         static_cast<vtkObject*>(this->ImplicitBoundary) })
+  {
+    AppendFingerprint(object, key);
+    key.push_back(~std::uint64_t(0));
+  }
+  // The arrays selected for g, h and the back side's g.
+  for (int idx : { 0, 1, 3 })
+  {
+    vtkInformation* info = this->GetInputArrayInformation(idx);
+    addString(info && info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME())
+                                                              : "");
+    key.push_back(info && info->Has(vtkDataObject::FIELD_ASSOCIATION())
+        ? static_cast<std::uint64_t>(info->Get(vtkDataObject::FIELD_ASSOCIATION()))
+        : ~std::uint64_t(0));
+    key.push_back(info && info->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE())
+        ? static_cast<std::uint64_t>(info->Get(vtkDataObject::FIELD_ATTRIBUTE_TYPE()))
+        : ~std::uint64_t(0));
+  }
+  for (const std::string& e : in.ValueExpressions)
+  {
+    addString(e);
+  }
+  addString(in.Name);
+  key.push_back(in.CellData ? 1 : 0);
+  key.push_back(in.TwoSided ? 1 : 0);
+  key.push_back(this->Equation == BIHARMONIC ? 1 : 0); // values hold g and h
+  key.push_back(static_cast<std::uint64_t>(in.CsgOperation));
+  addDouble(in.CsgBlendRadius);
+  addDouble(this->LipschitzBound);
+  if (regionProbe)
+  {
+    // Implicit and CSG boundaries live in a region around the probe.
+    double bounds[6];
+    regionProbe->GetBounds(bounds);
+    for (double b : bounds)
+    {
+      addDouble(b);
+    }
+  }
+  return key;
+}
+
 int vtkWalkOnSpheresSolver::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  this->LastBoundaryBuilt = false;
   this->LastNumberOfWalks = 0;
   this->LastSolveSeconds = 0.0;
   this->LastDimension = 0;
@@ -2040,6 +1862,8 @@ int vtkWalkOnSpheresSolver::RequestData(
     this->ImplicitBoundary };
   const std::uint64_t gatheredSignature = gatheredBoundary.Signature ^
     (gatheredSource.Signature * 1099511628211ULL);
+  inputs.BoundaryKey = this->BoundaryKey(boundaryPiece, gatheredBoundary.Signature, dimension,
+    inputs, implicit || csg ? probe : nullptr);
   this->Cache->Validate(this->SettingsTime.GetMTime(), used, gatheredSignature);
   this->LastResumedWalksPerPoint = 0;
   bool ok = false;
@@ -2056,6 +1880,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   if (!ok)
   {
     this->Cache->Sums.Clear();
+    this->Cache->ForgetBoundary();
   }
   this->Cache->Remember(this->SettingsTime.GetMTime(), used, gatheredSignature);
   if (ok && this->GathersPieces())

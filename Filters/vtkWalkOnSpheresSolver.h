@@ -122,6 +122,7 @@
 #include <cstdint> // for std::uint64_t
 #include <memory>  // for std::unique_ptr
 #include <string>  // for std::string
+#include <vector>  // for std::vector
 
 class vtkDataArray;
 class vtkDataSet;
@@ -129,6 +130,7 @@ class vtkImplicitFunction;
 class vtkMultiProcessController;
 class vtkPolyData;
 struct vtkWalkOnSpheresSolverCache;
+struct vtkWalkOnSpheresSolverInputs;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
 {
@@ -518,6 +520,16 @@ public:
   vtkGetMacro(LastResumedWalksPerPoint, vtkIdType);
 
   /**
+   * Whether the last execution built the boundary (conversion, hierarchy,
+   * distance bounds) or reused the one built before. It is reused while
+   * the Boundary input, the implicit boundary and the properties that shape
+   * the boundary (value arrays and expressions, Equation, two-sided values,
+   * CSG, Lipschitz bound) stay the same: moving the probe, changing the
+   * walks, the seed or Epsilon, or refining does not rebuild it.
+   */
+  vtkGetMacro(LastBoundaryBuilt, bool);
+
+  /**
    * Any change but WalksPerPoint's also marks the kept running sums stale.
    */
   void Modified() override;
@@ -577,17 +589,24 @@ protected:
   double LastSolveSeconds = 0.0;
   int LastDimension = 0;
   vtkIdType LastResumedWalksPerPoint = 0;
+  bool LastBoundaryBuilt = false;
 
 private:
   vtkWalkOnSpheresSolver(const vtkWalkOnSpheresSolver&) = delete;
   void operator=(const vtkWalkOnSpheresSolver&) = delete;
 
-  // The running sums kept for progressive refinement, and what they were
-  // computed from.
+  // The running sums kept for progressive refinement and the last boundary
+  // built, with what they were computed from.
   std::unique_ptr<vtkWalkOnSpheresSolverCache> Cache;
   // Modified by every change except one of WalksPerPoint alone.
   vtkTimeStamp SettingsTime;
   bool ChangingOnlyWalks = false;
+
+  // What the core boundary is built from: the Boundary input's piece (and
+  // the signature of the gathered pieces), the implicit boundary, and the
+  // properties that shape the boundary; with `regionProbe`, its bounds.
+  std::vector<std::uint64_t> BoundaryKey(vtkDataObject* boundaryPiece, std::uint64_t gathered,
+    int dimension, const vtkWalkOnSpheresSolverInputs& in, vtkDataSet* regionProbe);
 
   template <int DIM>
   friend class vtkWalkOnSpheresSolverRunner;

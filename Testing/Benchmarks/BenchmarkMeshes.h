@@ -5,7 +5,7 @@
 #define GRIDFREE_BENCHMARKS_BENCHMARKMESHES_H
 
 #include "TestMeshes.h"
-#include "Vector.h"
+#include <gridfree/math/Vector.h>
 
 #include <cstddef>
 #include <cstdint>

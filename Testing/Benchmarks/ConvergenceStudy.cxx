@@ -22,14 +22,14 @@
 // Writes the CSV rows walks,control_variates,quantity,l2_error,linf_error,
 // mean_stderr; prints a table, the fitted log-log slopes of the errors
 // against N and the error ratios without/with control variates at N = 1024.
-#include "Boundary.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "ParallelExecution.h"
-#include "RunningStatistics.h"
-#include "SourceTerms.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/sources/SourceTerms.h>
 #include "TestMeshes.h"
 #include "TestSolutions.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 #include "EmbreePeer.h"
 
-#include "Geometry/ClosestPointPrimitives.h"
+#include <gridfree/geometry/ClosestPointPrimitives.h>
 
 #include <algorithm>
 #include <chrono>

@@ -12,7 +12,7 @@
 #ifndef GRIDFREE_BENCHMARKS_EMBREEPEER_H
 #define GRIDFREE_BENCHMARKS_EMBREEPEER_H
 
-#include "Vector.h"
+#include <gridfree/math/Vector.h>
 
 #include <embree3/rtcore.h>
 

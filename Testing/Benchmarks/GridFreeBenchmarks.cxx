@@ -5,13 +5,13 @@
 // Run with --help for the options. Prints Markdown tables; quote ratios, not
 // absolute numbers (shared machines are noisy).
 #include "BenchmarkMeshes.h"
-#include "Boundary.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "Geometry/Bvh.h"
-#include "Geometry/SimdDispatch.h"
-#include "ParallelExecution.h"
-#include "RunningStatistics.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/SimdDispatch.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #ifdef GRIDFREE_HAVE_EMBREE
 #include "EmbreePeer.h"

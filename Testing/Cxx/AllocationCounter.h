@@ -12,9 +12,9 @@
 #define GRIDFREE_TESTING_ALLOCATIONCOUNTER_H
 
 #include "EstimatorChecks.h"
-#include "RunningStatistics.h"
-#include "Vector.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/math/Vector.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <gtest/gtest.h>
 

@@ -5,13 +5,13 @@
 #ifndef GRIDFREE_TESTING_ESTIMATORCHECKS_H
 #define GRIDFREE_TESTING_ESTIMATORCHECKS_H
 
-#include "Boundary.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "ParallelExecution.h"
-#include "RunningStatistics.h"
-#include "SourceTerms.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/sources/SourceTerms.h>
 #include "TestMeshes.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <gtest/gtest.h>
 

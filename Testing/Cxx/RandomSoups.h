@@ -4,9 +4,9 @@
 #ifndef GRIDFREE_TESTING_RANDOMSOUPS_H
 #define GRIDFREE_TESTING_RANDOMSOUPS_H
 
-#include "Geometry/Bvh.h"
-#include "Geometry/ClosestPointPrimitives.h"
-#include "Vector.h"
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/math/Vector.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "AdaptiveSampling.h"
+#include <gridfree/applications/AdaptiveSampling.h>
 
 #include <gtest/gtest.h>
 

@@ -15,10 +15,10 @@
 #include "GridFreeBoundaryConversion.h"
 #include "VtkMessageCatcher.h"
 
-#include "BoundaryValues.h"
-#include "Geometry/BezierCurves.h"
-#include "RunningStatistics.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/boundary/BoundaryValues.h>
+#include <gridfree/geometry/BezierCurves.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"

@@ -8,9 +8,9 @@
 // of the curve, so it can never be better than the true minimum either. The
 // boundary geometry must agree with a brute-force minimum over all curves.
 // Seeds are fixed, so failures are reproducible.
-#include "Geometry/BezierCurves.h"
-#include "Geometry/BoundingBox.h"
-#include "Vector.h"
+#include <gridfree/geometry/BezierCurves.h>
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/math/Vector.h>
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // (it evaluates the same kernels, so up to their last-bit rounding), for any
 // input a mesh file can hold: degenerate, duplicated and repeated-vertex
 // primitives included. Seeds are fixed, so failures are reproducible.
-#include "Geometry/BoundingBox.h"
-#include "Geometry/Bvh.h"
-#include "Geometry/ClosestPointPrimitives.h"
-#include "Vector.h"
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/math/Vector.h>
 
 #include "RandomSoups.h"
 #include "TestMeshes.h"

@@ -4,8 +4,8 @@
 // three vertices, as raw marching-cubes output often is). Queries uniform in
 // the box, near the surface (down to exactly on a vertex) and far away; every
 // instruction set the CPU supports gives the same bits as the baseline.
-#include "Geometry/Bvh.h"
-#include "Geometry/ClosestPointPrimitives.h"
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
 
 #include "vtkCellArray.h"
 #include "vtkFlyingEdges3D.h"

@@ -6,10 +6,10 @@
 // hit. The primitive tests are checked against an independent reference away
 // from edges, and for watertightness on closed meshes: rays aimed exactly at
 // vertices and edge midpoints never slip through. Seeds are fixed.
-#include "Geometry/BoundingBox.h"
-#include "Geometry/Bvh.h"
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/Bvh.h>
 #include "TestMeshes.h"
-#include "Vector.h"
+#include <gridfree/math/Vector.h>
 
 #include "RandomSoups.h"
 

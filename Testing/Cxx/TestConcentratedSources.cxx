@@ -6,12 +6,12 @@
 // samples inside the ball and on the curve, uniform in arc length, linearly
 // interpolated strengths and an unbiased estimate of the integral over the
 // clipped curve. Seeds are fixed, so failures are reproducible.
-#include "ConcentratedSources.h"
-#include "Geometry/BallQueryTree.h"
-#include "Geometry/BoundingBox.h"
-#include "Geometry/ClosestPointPrimitives.h"
-#include "Random.h"
-#include "Vector.h"
+#include <gridfree/sources/ConcentratedSources.h>
+#include <gridfree/geometry/BallQueryTree.h>
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/sampling/Random.h>
+#include <gridfree/math/Vector.h>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "CrossField.h"
+#include <gridfree/applications/CrossField.h>
 
 #include <gtest/gtest.h>
 

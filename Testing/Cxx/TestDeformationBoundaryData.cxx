@@ -9,8 +9,8 @@
 // the closure itself: for a holomorphic map f the closure is exact and h must
 // be the true ∂²φ/∂T² = f''(z) T². Similarities must give h = 0 to rounding,
 // which fails for either sign error (a flipped closure gives h = 2u'').
-#include "DeformationBoundaryData.h"
-#include "Vector.h"
+#include <gridfree/applications/DeformationBoundaryData.h>
+#include <gridfree/math/Vector.h>
 
 #include <gtest/gtest.h>
 

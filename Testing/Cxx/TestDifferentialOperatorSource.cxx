@@ -1,6 +1,6 @@
 // The divergence and curl sources of the Helmholtz decomposition, against
 // the analytic derivatives of a polynomial vector field.
-#include "DifferentialOperatorSource.h"
+#include <gridfree/sources/DifferentialOperatorSource.h>
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,9 @@
 // at least 1/(1 + accept) of the distance, it serves the deep interior of a
 // closed surface, its values do not depend on the thread count, and walks
 // that use it still match closed-form harmonic functions.
-#include "Boundary.h"
+#include <gridfree/boundary/Boundary.h>
 #include "EstimatorChecks.h"
-#include "Geometry/DistanceBoundGrid.h"
+#include <gridfree/geometry/DistanceBoundGrid.h>
 #include "RandomSoups.h"
 #include "TestMeshes.h"
 

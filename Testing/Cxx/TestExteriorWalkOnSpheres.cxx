@@ -3,7 +3,7 @@
 // Tests the return sampler of ExteriorReturn.h and the estimator against
 // closed forms outside a sphere, a cube and a circle, for both strategies.
 #include "EstimatorChecks.h"
-#include "ExteriorReturn.h"
+#include <gridfree/estimators/ExteriorReturn.h>
 
 #include <gtest/gtest.h>
 

@@ -5,9 +5,9 @@
 // and Hessian of closed-form solutions of Δu − c·u = f when every integral is
 // computed by Gauss quadrature, in 2D and 3D, for c = 0 and several c > 0.
 // A wrong constant or sign shows up as an O(1) relative error.
-#include "BesselFunctions.h"
-#include "GreensFunctionHessians.h"
-#include "GreensFunctions.h"
+#include <gridfree/math/BesselFunctions.h>
+#include <gridfree/greens/GreensFunctionHessians.h>
+#include <gridfree/greens/GreensFunctions.h>
 #include "Quadrature.h"
 #include "TestSolutions.h"
 

@@ -1,8 +1,8 @@
 // Samplers of the normalized Green's functions (FORMULAS.md §6) and of the
 // unit ball: Kolmogorov-Smirnov tests against the radial CDF integrated from
 // Value(), importance-sampling identities, and wrong samplers that must fail.
-#include "BallSampling.h"
-#include "GreensFunctions.h"
+#include <gridfree/sampling/BallSampling.h>
+#include <gridfree/greens/GreensFunctions.h>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Scaled Bessel functions and the ball Green's functions (harmonic, Yukawa):
 // closed forms against quadrature of the mean-value identities of
 // FORMULAS.md §1-§4, limits c → 0 and z → ∞, and the image-method gradient.
-#include "BesselFunctions.h"
-#include "GreensFunctions.h"
+#include <gridfree/math/BesselFunctions.h>
+#include <gridfree/greens/GreensFunctions.h>
 #include "Quadrature.h"
 
 #include <gtest/gtest.h>

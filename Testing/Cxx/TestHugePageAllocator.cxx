@@ -2,7 +2,7 @@
 // arrays. On Linux, blocks of 2 MiB or more are whole, 2 MiB-aligned pages
 // marked for transparent huge pages; smaller ones, and all blocks elsewhere,
 // keep their type's alignment and their size.
-#include "Geometry/HugePageAllocator.h"
+#include <gridfree/geometry/HugePageAllocator.h>
 
 #include <gtest/gtest.h>
 

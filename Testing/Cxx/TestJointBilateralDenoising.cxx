@@ -1,4 +1,4 @@
-#include "JointBilateralDenoising.h"
+#include <gridfree/applications/JointBilateralDenoising.h>
 
 #include <gtest/gtest.h>
 

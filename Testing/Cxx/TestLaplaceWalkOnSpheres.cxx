@@ -2,10 +2,10 @@
 // against closed-form harmonic functions, in 2D and 3D, on round and square
 // domains. Each test asserts accuracy (|z| < 5 at every point) and
 // calibration (mean z^2 near 1: the reported variance matches the spread).
-#include "Boundary.h"
-#include "ParallelExecution.h"
-#include "RunningStatistics.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 #include "EstimatorChecks.h"
 #include "TestMeshes.h"
 

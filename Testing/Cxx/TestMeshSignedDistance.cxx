@@ -15,17 +15,17 @@
 // harmonic only in that domain, so that a wrong sign biases the result),
 // checked for accuracy (|z| < 5) and calibration (mean z² near 1). Seeds are
 // fixed, so failures are reproducible.
-#include "Boundary.h"
-#include "BoundaryValues.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/boundary/BoundaryValues.h>
 #include "EstimatorChecks.h"
-#include "Geometry/Bvh.h"
-#include "Geometry/CsgFunctions.h"
-#include "Geometry/ImplicitBoundary.h"
-#include "Geometry/MeshSignedDistance.h"
-#include "Geometry/SignedDistanceFunctions.h"
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/ImplicitBoundary.h>
+#include <gridfree/implicit/MeshSignedDistance.h>
+#include <gridfree/implicit/SignedDistanceFunctions.h>
 #include "TestMeshes.h"
-#include "Vector.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/math/Vector.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #ifndef GRIDFREE_TESTING_TESTMESHES_H
 #define GRIDFREE_TESTING_TESTMESHES_H
 
-#include "Vector.h"
+#include <gridfree/math/Vector.h>
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "MovingLeastSquares.h"
+#include <gridfree/applications/MovingLeastSquares.h>
 
 #include <gtest/gtest.h>
 

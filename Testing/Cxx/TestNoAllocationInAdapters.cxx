@@ -3,12 +3,12 @@
 // and a per-thread vtkGenericCell), boundary values from an expression, and
 // implicit boundaries evaluated through VTK (see AllocationCounter.h).
 #include "AllocationCounter.h"
-#include "BoundaryValues.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "Geometry/ImplicitBoundary.h"
+#include <gridfree/boundary/BoundaryValues.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/implicit/ImplicitBoundary.h>
 #include "GridFreeImplicitBoundary.h"
 #include "GridFreeSourceConversion.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include "vtkBox.h"
 #include "vtkDoubleArray.h"
@@ -62,7 +62,7 @@ void AddSourceArray(vtkDataSet* data)
 // the volume source described by `source`, `array` and `expression`.
 void CheckSource(vtkDataSet* source, vtkDataArray* array, const std::string& expression)
 {
-  SourceDescription<3> description;
+  SourceSet<3> description;
   std::string reason;
   ASSERT_TRUE(ConvertSource<3>(source, array, expression, 1, 0.0, description, reason)) << reason;
   ASSERT_TRUE(description.MakeVolume);

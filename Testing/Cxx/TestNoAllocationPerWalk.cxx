@@ -2,16 +2,16 @@
 // boundary and source, runs its walks without touching the heap once its
 // buffers exist (see AllocationCounter.h for how this is counted).
 #include "AllocationCounter.h"
-#include "ConcentratedSources.h"
-#include "DerivativeWalkOnSpheres.h"
+#include <gridfree/sources/ConcentratedSources.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
 #include "EstimatorChecks.h"
-#include "Geometry/BezierCurves.h"
-#include "Geometry/CsgFunctions.h"
-#include "Geometry/ImplicitBoundary.h"
-#include "Geometry/MeshSignedDistance.h"
-#include "Geometry/SignedDistanceFunctions.h"
+#include <gridfree/geometry/BezierCurves.h>
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/ImplicitBoundary.h>
+#include <gridfree/implicit/MeshSignedDistance.h>
+#include <gridfree/implicit/SignedDistanceFunctions.h>
 #include "TestMeshes.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <gtest/gtest.h>
 

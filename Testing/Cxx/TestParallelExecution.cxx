@@ -1,4 +1,4 @@
-#include "ParallelExecution.h"
+#include <gridfree/execution/ParallelExecution.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Random streams: determinism, independence of nearby keys, uniformity.
-#include "Random.h"
-#include "SphereSampling.h"
+#include <gridfree/sampling/Random.h>
+#include <gridfree/sampling/SphereSampling.h>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-#include "RunningStatistics.h"
-#include "RunningSumsCache.h"
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/statistics/RunningSumsCache.h>
 
 #include <gtest/gtest.h>
 

@@ -12,11 +12,11 @@
 // along random lines, together with independent reference formulas, set
 // membership, part reporting and bounds. Seeds are fixed, so failures are
 // reproducible.
-#include "Geometry/BoundingBox.h"
-#include "Geometry/CsgFunctions.h"
-#include "Geometry/SignedDistance.h"
-#include "Geometry/SignedDistanceFunctions.h"
-#include "Vector.h"
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/SignedDistance.h>
+#include <gridfree/implicit/SignedDistanceFunctions.h>
+#include <gridfree/math/Vector.h>
 
 #include <gtest/gtest.h>
 

@@ -17,8 +17,8 @@
 #include "vtkSignedDistanceTorus.h"
 #include "vtkWalkOnSpheresSolver.h"
 
-#include "Geometry/CsgFunctions.h"
-#include "Geometry/SignedDistanceFunctions.h"
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/SignedDistanceFunctions.h>
 
 #include "VtkMessageCatcher.h"
 

@@ -4,8 +4,8 @@
 // closest points and their primitives and weights, relaxed lower bounds,
 // hinted queries and ray hits, on random soups, a closed sphere seen from
 // its centre (all triangles equidistant) and coplanar overlapping triangles.
-#include "Geometry/Bvh.h"
-#include "Geometry/SimdDispatch.h"
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/SimdDispatch.h>
 #include "RandomSoups.h"
 #include "TestMeshes.h"
 

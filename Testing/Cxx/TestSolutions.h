@@ -3,7 +3,7 @@
 #ifndef GRIDFREE_TESTING_TESTSOLUTIONS_H
 #define GRIDFREE_TESTING_TESTSOLUTIONS_H
 
-#include "Vector.h"
+#include <gridfree/math/Vector.h>
 
 #include <cmath>
 #include <functional>

@@ -76,7 +76,7 @@ template <int DIM>
 std::unique_ptr<gridfree::VolumeSource<DIM>> MakeSource(vtkDataSet* data, vtkDataArray* array,
   const std::string& expression, int components, double planeZ, double lengthScale)
 {
-  gridfree::SourceDescription<DIM> description;
+  gridfree::SourceSet<DIM> description;
   std::string reason;
   if (!gridfree::ConvertSource<DIM>(
         data, array, expression, components, planeZ, description, reason))

@@ -6,7 +6,7 @@
 // the superposition of fundamental solutions Φ (ΔΦ = δ): Φ = −1/(4π r) in
 // 3D, ln(r)/(2π) in 2D. Inside the unit sphere with g = u on the boundary
 // the estimate must match it.
-#include "ConcentratedSources.h"
+#include <gridfree/sources/ConcentratedSources.h>
 #include "EstimatorChecks.h"
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // indexed mesh welds back to that mesh's vertex count, vertices whose values
 // differ stay apart, unused vertices go, and the boundary answers every
 // query exactly as before.
-#include "Boundary.h"
-#include "Geometry/WeldVertices.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/geometry/WeldVertices.h>
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>

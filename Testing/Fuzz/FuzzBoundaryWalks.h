@@ -45,10 +45,10 @@
 #ifndef GRIDFREE_TESTING_FUZZ_FUZZBOUNDARYWALKS_H
 #define GRIDFREE_TESTING_FUZZ_FUZZBOUNDARYWALKS_H
 
-#include "Boundary.h"
-#include "Geometry/Bvh.h"
-#include "RunningStatistics.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include <algorithm>
 #include <array>

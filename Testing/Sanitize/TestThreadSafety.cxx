@@ -10,12 +10,12 @@
 // seen, so every report here is a real race. ParallelForWithProgress runs on
 // one TBB thread: its own protocol (worker thread, progress polling on the
 // calling thread, abort flag, exception hand-off) is checked, not TBB's.
-#include "Boundary.h"
-#include "ConcentratedSources.h"
-#include "DerivativeWalkOnSpheres.h"
-#include "ParallelExecution.h"
-#include "RunningStatistics.h"
-#include "WalkOnSpheres.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/sources/ConcentratedSources.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
 
 #include "EstimatorChecks.h"
 #include "TestMeshes.h"

@@ -1,0 +1,47 @@
+// The geometric side of a Dirichlet boundary that is not a BVH over a mesh:
+// implicit surfaces, CSG trees, Bézier curves. Boundary<DIM> keeps its mesh
+// path free of virtual calls and uses this interface for everything else.
+//
+// Walk on spheres needs exactly two queries (paper Sec. 5.1):
+// * Distance(x): the radius of an empty ball around x. It may be a LOWER
+//   bound of the true distance (a smaller ball is still inside the domain, so
+//   the estimator stays unbiased) but must never exceed it, and it must be
+//   close to the truth near the boundary, where the walk decides to stop.
+// * ClosestPoint(x): where the walk takes its boundary value once it is
+//   within ε of the boundary.
+#ifndef GRIDFREE_GEOMETRY_BOUNDARY_GEOMETRY_H
+#define GRIDFREE_GEOMETRY_BOUNDARY_GEOMETRY_H
+
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/ClosestPointResult.h>
+#include <gridfree/math/Vector.h>
+
+namespace gridfree
+{
+template <int DIM>
+class BoundaryGeometry
+{
+public:
+  virtual ~BoundaryGeometry() = default;
+
+  // Conservative distance to the boundary (never more than the truth).
+  virtual double Distance(const Vec<DIM>& x) const = 0;
+
+  // A boundary point near x, with `distance` = |x − point| and the part or
+  // primitive it lies on (see ClosestPointResult).
+  virtual ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const = 0;
+
+  // Unit normal of the boundary at a point returned by ClosestPoint (zero
+  // where there is none); only used to pick a side for points on the boundary.
+  virtual Vec<DIM> Normal(const ClosestPointResult<DIM>& hit) const = 0;
+
+  // A box that holds the whole boundary; empty when it is unbounded.
+  virtual BoundingBox<DIM> Bounds() const = 0;
+
+  // Number of parts (CSG leaves, curves, primitives) a ClosestPointResult's
+  // `primitive` can name.
+  virtual std::int64_t NumberOfParts() const = 0;
+};
+} // namespace gridfree
+
+#endif

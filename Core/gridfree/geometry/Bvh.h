@@ -1,0 +1,1612 @@
+// Bounding volume hierarchy for closest-point, distance and ray queries to a
+// boundary made of segments (DIM = 2) or triangles (DIM = 3).
+//
+// Walk on spheres asks for the distance to the boundary at every step of every
+// walk, so this is the hot loop of the whole estimator. Design choices:
+//
+// * Build: binned surface area heuristic on primitive centroids, O(n log n),
+//   collapsed on the fly into a 4-wide tree (each node holds the boxes of up to
+//   4 children) so that one SSE instruction sequence tests 4 boxes at once.
+//   The builder partitions compact records (float boxes rounded outward and
+//   an index, 28 bytes) in place, so each pass reads memory in order, and it
+//   frees them before the primitives are copied: a 10M-triangle soup builds
+//   in seconds with a peak of about the soup plus the finished hierarchy.
+// * A node fits in one cache line: child boxes are quantized to 8 bits per
+//   side relative to the node box and decoded in float. Random queries over a
+//   large mesh are bound by memory latency, so smaller nodes pay off.
+// * Codes are rounded outward and the query point is rounded to a float
+//   interval, so box distances computed in float are guaranteed LOWER bounds
+//   after a small relative safety margin: pruning never discards the true
+//   closest primitive.
+// * Primitives are copied into leaf order with their vertex coordinates
+//   inlined (no index indirection), so a leaf is one contiguous memory block.
+//   Nodes and primitives live on huge pages where the system grants them
+//   (HugePageAllocator.h): fewer page walks for random queries.
+// * Primitive distances are computed in double with the kernels of
+//   ClosestPointPrimitives.h. Triangles first get a plane-distance test (a
+//   lower bound, with a margin for its own rounding) that rejects most of the
+//   nearly equidistant triangles seen from deep inside a closed surface. The
+//   answer is the exact minimum over all primitives: it equals brute force
+//   up to the last-bit rounding of the kernels themselves.
+// * Traversal is nearest child first with a small fixed stack; Distance()
+//   tracks only the squared distance, and ClosestPoint() evaluates the
+//   barycentric weights once, for the winning primitive. A walk passes a
+//   NearestHint: the primitive nearest to its previous position is measured
+//   first and bounds the search from the start, and the closest point at
+//   the walk's end needs no search when its last query proved it.
+// * Ray queries (Intersect, Occluded) reuse the same nodes: a float slab test
+//   per 4 boxes whose intervals are widened for every rounding (it never
+//   drops a box the ray enters), nearest child first, pruned by the best hit.
+//   Primitive tests are watertight: the ray/triangle test of Woop, Benthin
+//   and Wald (2013), with exact signs for the edge functions; in 2D, exact
+//   orientation signs of the segment ends (RayKernels.h, ExactPredicates.h).
+//
+// * The searches are compiled for SSE2, AVX2 and AVX-512 and each hierarchy
+//   runs the best its CPU supports (SimdDispatch.h); all give the same bits.
+//
+// Limitation: box distances are computed in float, so for coordinates beyond
+// ~1e18 they may overflow to inf; the answer stays correct but pruning is lost.
+// Queries are const and allocation free: one Bvh can serve many threads.
+#ifndef GRIDFREE_GEOMETRY_BVH_H
+#define GRIDFREE_GEOMETRY_BVH_H
+
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/ClosestPointResult.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/geometry/HugePageAllocator.h>
+#include <gridfree/geometry/RayKernels.h>
+#include <gridfree/geometry/SimdDispatch.h>
+#include <gridfree/math/Vector.h>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+// GRIDFREE_BVH_SCALAR selects the portable scalar box tests even where SSE2
+// exists: the tests build the hierarchy both ways, each against brute force.
+#if !defined(GRIDFREE_BVH_SCALAR) &&                                                          \
+  (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#include <emmintrin.h>
+#define GRIDFREE_BVH_USE_SSE 1
+#endif
+
+namespace gridfree
+{
+namespace detail
+{
+/// The primitive of a DIM-dimensional boundary: segments in 2D, triangles in
+/// 3D. Vertices are stored inline (DIM vertices of DIM coordinates).
+template <int DIM>
+struct BvhPrimitive;
+
+template <>
+struct BvhPrimitive<2>
+{
+  Vec2 V[2];
+  double SquaredDistance(const Vec2& x, double /*bound2*/) const
+  {
+    // A line-distance early out (as for triangles) does not pay off here:
+    // the segment kernel is barely more expensive than the test.
+    return SquaredDistanceToSegment<2>(x, this->V[0], this->V[1]);
+  }
+  PrimitiveClosestPoint<2, 2> ClosestPoint(const Vec2& x) const
+  {
+    return ClosestPointOnSegment<2>(x, this->V[0], this->V[1]);
+  }
+};
+
+template <>
+struct BvhPrimitive<3>
+{
+  Vec3 V[3];
+  double SquaredDistance(const Vec3& x, double bound2) const
+  {
+    return SquaredDistanceToTriangle(x, this->V[0], this->V[1], this->V[2], bound2);
+  }
+  PrimitiveClosestPoint<3, 3> ClosestPoint(const Vec3& x) const
+  {
+    return ClosestPointOnTriangle(x, this->V[0], this->V[1], this->V[2]);
+  }
+};
+
+/// The next float below a float that is not NaN: one step of its bit
+/// pattern, which orders like the value within each sign. (std::nextafter
+/// was a tenth of a walk step's instructions.)
+inline float NextFloatDown(float f)
+{
+  if (f == 0.0f)
+  {
+    return -std::numeric_limits<float>::denorm_min();
+  }
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  bits = f > 0.0f ? bits - 1u : bits + 1u;
+  std::memcpy(&f, &bits, sizeof bits);
+  return f;
+}
+
+/// The next float above a float that is not NaN.
+inline float NextFloatUp(float f)
+{
+  return -NextFloatDown(-f);
+}
+
+/// Largest float <= v (directed rounding without touching the FPU mode).
+inline float FloatDown(double v)
+{
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? NextFloatDown(f) : f;
+}
+
+/// Smallest float >= v.
+inline float FloatUp(double v)
+{
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? NextFloatUp(f) : f;
+}
+
+/// Float threshold T such that a float box distance d2f > T proves that the
+/// exact box distance exceeds best2 (no primitive inside can be closer).
+///
+/// With outward-rounded boxes and a query interval [xlo, xhi], every gap
+/// max(lo - xhi, xlo - hi, 0) is a lower bound before rounding; the float
+/// subtraction, squares and sums then overestimate it by a factor of at most
+/// (1 + 2^-24)^5. The threshold is inflated by 2^-19 (> 5 * 2^-24 plus its
+/// own rounding) and kept >= FLT_MIN, below which the float arithmetic is no
+/// longer relative.
+inline float PruneThreshold(double best2)
+{
+  const float t = static_cast<float>(best2) * (1.0f + 0x1p-19f);
+  return t > FLT_MIN ? t : FLT_MIN;
+}
+
+} // namespace detail
+
+template <int DIM>
+class Bvh
+{
+  static_assert(DIM == 2 || DIM == 3, "Bvh supports segments in 2D and triangles in 3D");
+
+public:
+  /// Vertex indices of one primitive: a segment in 2D, a triangle in 3D.
+  using Primitive = std::array<std::int64_t, DIM>;
+
+  /// Maximum number of primitives per leaf. Small leaves suit distance
+  /// queries, whose primitive tests cost more than a 4-wide box test.
+  static constexpr int kMaxLeafSize = 4;
+  static_assert(kMaxLeafSize <= 7, "leaf counts are stored in 3 bits");
+
+  /// Builds the hierarchy; O(n log n). Replaces any previous content. Throws
+  /// std::out_of_range for a vertex index outside `vertices`.
+  void Build(const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives);
+
+  bool Empty() const { return this->Primitives.empty(); }
+  std::size_t NumberOfPrimitives() const { return this->Primitives.size(); }
+
+  /// Box of all vertices referenced by primitives (empty box if none).
+  const BoundingBox<DIM>& Bounds() const { return this->Box; }
+
+  /// Exact unsigned distance to the nearest primitive; inf if empty.
+  double Distance(const Vec<DIM>& x) const { return std::sqrt(this->SquaredDistance(x)); }
+
+  /// Exact squared distance to the nearest primitive; inf if empty.
+  double SquaredDistance(const Vec<DIM>& x) const
+  {
+    double best2 = std::numeric_limits<double>::infinity();
+    this->FindNearest(x, best2);
+    return best2;
+  }
+
+  /// What a walk carries from one query to the next: the nearest primitive
+  /// its last query found, and whether that query proved it nearest to the
+  /// point it asked about. A walk's next position is one ball radius away,
+  /// so the same primitive or a neighbour is usually nearest again: measured
+  /// first, it bounds the search from the outset (a query started from a
+  /// cached primitive near the walker). Answers stay exact, or within the
+  /// relaxation, whatever the hint holds; only ties may resolve differently.
+  /// A hint belongs to one hierarchy and one walk (one thread).
+  struct NearestHint
+  {
+    std::int64_t Primitive = -1; // index in leaf order, -1 for none
+    bool Exact = false;          // Primitive is a nearest one to Point
+    Vec<DIM> Point = Vec<DIM>::Constant(std::numeric_limits<double>::quiet_NaN());
+  };
+
+  /// SquaredDistance, starting from and updating a hint.
+  double SquaredDistance(const Vec<DIM>& x, NearestHint& hint) const
+  {
+    double best2;
+    hint.Primitive = this->FindNearest(x, best2, nullptr, hint.Primitive);
+    hint.Exact = true;
+    hint.Point = x;
+    return best2;
+  }
+
+  /// Closest point, its distance, the ORIGINAL index of its primitive (as
+  /// passed to Build) and the barycentric weights of the primitive's vertices.
+  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const
+  {
+    NearestHint none;
+    return this->ClosestPoint(x, none);
+  }
+
+  /// ClosestPoint, starting from and updating a hint. When the hint's last
+  /// query was at this very x and proved its primitive nearest (a walk that
+  /// stops after an exact step radius), no search is needed.
+  ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x, NearestHint& hint) const;
+
+  /// A lower bound L of the distance d with d / (1 + relaxation) <= L <= d,
+  /// for the step radius of a walk. While the nearest distance found so far
+  /// exceeds `exactBelow`, subtrees are skipped unless they could be closer
+  /// than 1 / (1 + relaxation) of it; L is the smaller of the nearest
+  /// distance found and the nearest skipped box. Deep inside a closed surface
+  /// nearly every triangle is almost equidistant, and an exact answer must
+  /// visit them all; the relaxed one stops after O(1 / relaxation²) boxes.
+  /// `exact` tells whether L is the exact distance (no skipped box is nearer).
+  /// With a hint, the search starts from its primitive and leaves in it the
+  /// nearest one found (proved nearest when `exact`).
+  double DistanceLowerBound(const Vec<DIM>& x, double relaxation, double exactBelow, bool& exact,
+    NearestHint* hint = nullptr) const
+  {
+    Relaxation r;
+    r.Shrink2 = 1.0 / ((1.0 + relaxation) * (1.0 + relaxation));
+    r.ExactBelow2 = exactBelow * exactBelow;
+    double best2 = std::numeric_limits<double>::infinity();
+    const std::int64_t best = this->FindNearest(x, best2, &r, hint ? hint->Primitive : -1);
+    // Float box distances may exceed the exact ones by (1 + 2^-24)^5 at most.
+    const double pruned2 = static_cast<double>(r.MinPruned2) * (1.0 - 0x1p-19);
+    exact = !(pruned2 < best2);
+    if (hint)
+    {
+      hint->Primitive = best;
+      hint->Exact = exact;
+      hint->Point = x;
+    }
+    return std::sqrt(exact ? best2 : pruned2);
+  }
+
+  /// Nearest hit of the ray origin + t * direction with tMin <= t <= tMax;
+  /// t is in units of direction, which need not have unit length. Box tests
+  /// never discard a hit, and primitive tests are watertight: a ray through
+  /// an edge or vertex shared by primitives of a closed boundary hits at
+  /// least one of them. Primitives parallel to the ray (containing it
+  /// included) and degenerate ones are never hit. No hit for a zero or
+  /// non-finite ray or an empty window. The point is origin + t * direction.
+  RayHit<DIM> Intersect(const Vec<DIM>& origin, const Vec<DIM>& direction,
+    double tMax = std::numeric_limits<double>::infinity(), double tMin = 0.0) const;
+
+  /// Whether any primitive is hit with tMin <= t <= tMax; stops at the first
+  /// one found. Visibility between points a and b: Occluded(a, b - a,
+  /// 1 - eps, eps), the small eps skipping primitives that a or b lie on.
+  bool Occluded(const Vec<DIM>& origin, const Vec<DIM>& direction,
+    double tMax = std::numeric_limits<double>::infinity(), double tMin = 0.0) const
+  {
+    double t = tMax;
+    Vec<DIM> w;
+    return this->template TraceRay<true>(origin, direction, tMin, t, w) >= 0;
+  }
+
+  /// Bytes held by the hierarchy: nodes, primitives in leaf order (with
+  /// their vertices inlined) and the map back to the original indices.
+  std::size_t MemoryBytes() const
+  {
+    return this->Nodes.capacity() * sizeof(Node) +
+      this->Primitives.capacity() * sizeof(PrimitiveData) +
+      this->OriginalIds.capacity() * sizeof(std::uint32_t);
+  }
+
+  /// Instruction set the searches run with (see SimdDispatch.h): by default
+  /// the best the CPU supports, lowered by GRIDFREE_SIMD. Every level gives
+  /// bit-identical answers. Setting asks for a level; the one in effect
+  /// (never above CpuSimdLevel()) is returned.
+  SimdLevel SetSimdLevel(SimdLevel level)
+  {
+    this->Simd = level < CpuSimdLevel() ? level : CpuSimdLevel();
+    return this->Simd;
+  }
+  SimdLevel GetSimdLevel() const { return this->Simd; }
+
+  /// Checks the invariants that exact queries rely on: every decoded child box
+  /// encloses the primitives below it (outward rounding), every primitive is
+  /// in exactly one leaf of 1..kMaxLeafSize primitives, and the depth fits the
+  /// traversal stack. Meant for tests; O(n log n).
+  bool Validate() const;
+
+private:
+  /// Child reference: internal node index, or a leaf (high bit set) holding
+  /// a start offset into Primitives (bits 3..30) and a count (bits 0..2).
+  static constexpr std::uint32_t kLeafFlag = 0x80000000u;
+  static constexpr std::uint32_t kEmptyChild = 0xffffffffu;
+  static constexpr std::size_t kMaxPrimitives = std::size_t(1) << 28;
+
+  /// Children per node, a multiple of the 4 SSE lanes. 8 was measured slower
+  /// near the surface (deeper but smaller nodes win when latency bound).
+  static constexpr int kWidth = 4;
+  static_assert(kWidth % 4 == 0, "nodes are tested 4 children at a time");
+
+  /// Below this tree level the builder switches from SAH to median splits,
+  /// which bounds the depth (and the traversal stack) for any input: median
+  /// splits at least halve the count per level, and counts are below 2^28.
+  static constexpr int kMaxSahLevel = 32;
+  static constexpr int kMaxDepth = kMaxSahLevel + 30;
+  /// Each level pushes at most kWidth - 1 entries.
+  static constexpr int kStackSize = (kWidth - 1) * kMaxDepth + 1;
+
+  /// Node with kWidth children; 64 bytes, one cache line, for 4 children in
+  /// 3D. Child boxes are quantized to 8 bits per side relative to the node
+  /// box: Origin + q * Scale, with the codes rounded outward so decoded boxes
+  /// always enclose the true ones. Coordinates are relative to Center (the
+  /// middle of the whole boundary) so that float precision is not wasted on an
+  /// offset. Unused slots hold kEmptyChild.
+  struct alignas(64) Node
+  {
+    float Origin[DIM];
+    float Scale[DIM];
+    std::uint8_t QLo[DIM][kWidth];
+    std::uint8_t QHi[DIM][kWidth];
+    std::uint32_t Child[kWidth];
+  };
+
+  using PrimitiveData = detail::BvhPrimitive<DIM>;
+
+  // Builder state, alive only during Build().
+  struct Range
+  {
+    std::uint32_t Begin = 0;
+    std::uint32_t End = 0;
+    std::uint32_t Mid = 0; // split position when !Leaf
+    bool Leaf = true;
+    BoundingBox<DIM> Box;
+  };
+  /// One primitive while building: its box rounded outward to float (so it
+  /// still encloses the primitive) and its index. The records themselves are
+  /// partitioned, not an index permutation into separate arrays, so every
+  /// pass over a range reads memory in order: with millions of shuffled soup
+  /// triangles the permutation's random reads dominated the build. 28 bytes
+  /// in 3D, against 76 for double boxes, centres and an index.
+  struct BuildRecord
+  {
+    float Lo[DIM];
+    float Hi[DIM];
+    std::uint32_t Id;
+    float Center(int axis) const { return 0.5f * (this->Lo[axis] + this->Hi[axis]); }
+  };
+  struct BuildState
+  {
+    std::vector<BuildRecord> Records;
+  };
+
+  void Evaluate(BuildState& s, Range& r, int level) const;
+  std::uint32_t BuildNode(BuildState& s, const Range& r, int level);
+  void EncodeBoxes(Node& node, const Range* kids, int count) const;
+
+  void Prefetch(std::uint32_t ref) const
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    const char* p;
+    std::size_t bytes;
+    if (ref & kLeafFlag)
+    {
+      p = reinterpret_cast<const char*>(this->Primitives.data() + ((ref & ~kLeafFlag) >> 3));
+      bytes = (ref & 7u) * sizeof(PrimitiveData);
+    }
+    else
+    {
+      p = reinterpret_cast<const char*>(this->Nodes.data() + ref);
+      bytes = sizeof(Node);
+    }
+    for (std::size_t off = 0; off < bytes; off += 64)
+    {
+      _mm_prefetch(p + off, _MM_HINT_T0);
+    }
+    _mm_prefetch(p + bytes - 1, _MM_HINT_T0); // data may straddle one more line
+#else
+    (void)ref;
+#endif
+  }
+
+#ifdef GRIDFREE_BVH_USE_SSE
+  /// Decoded bounds along axis k of the 4 child boxes of group g.
+  static void DecodeAxis(const Node& node, int k, int g, __m128& lo, __m128& hi)
+  {
+    const __m128i zero = _mm_setzero_si128();
+    auto codes = [&](const std::uint8_t* q) { // 4 bytes -> 4 floats
+      std::int32_t bits;
+      std::memcpy(&bits, q, 4);
+      const __m128i b = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bits), zero);
+      return _mm_cvtepi32_ps(_mm_unpacklo_epi16(b, zero));
+    };
+    const __m128 origin = _mm_set1_ps(node.Origin[k]);
+    const __m128 scale = _mm_set1_ps(node.Scale[k]);
+    lo = _mm_add_ps(origin, _mm_mul_ps(codes(node.QLo[k] + 4 * g), scale));
+    hi = _mm_add_ps(origin, _mm_mul_ps(codes(node.QHi[k] + 4 * g), scale));
+  }
+#endif
+
+  /// Decoded child boxes of a node, with the same arithmetic as the queries.
+  static void DecodeBoxes(const Node& node, float (&lo)[DIM][kWidth], float (&hi)[DIM][kWidth])
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+#ifdef GRIDFREE_BVH_USE_SSE
+      for (int g = 0; g < kWidth / 4; ++g)
+      {
+        __m128 l, h;
+        DecodeAxis(node, k, g, l, h);
+        _mm_storeu_ps(lo[k] + 4 * g, l);
+        _mm_storeu_ps(hi[k] + 4 * g, h);
+      }
+#else
+      for (int c = 0; c < kWidth; ++c)
+      {
+        lo[k][c] = node.Origin[k] + node.QLo[k][c] * node.Scale[k];
+        hi[k][c] = node.Origin[k] + node.QHi[k][c] * node.Scale[k];
+      }
+#endif
+    }
+  }
+
+#ifdef GRIDFREE_BVH_USE_SSE
+  /// Float lower bounds of the squared distances from the query interval,
+  /// broadcast per axis in qlo and qhi, to the 4 child boxes of group g.
+  static __m128 BoxDistances(const Node& node, int g, const __m128* qlo, const __m128* qhi)
+  {
+    __m128 d2 = _mm_setzero_ps();
+    for (int k = 0; k < DIM; ++k)
+    {
+      __m128 lo, hi;
+      DecodeAxis(node, k, g, lo, hi);
+      const __m128 gap = _mm_max_ps(
+        _mm_max_ps(_mm_sub_ps(lo, qhi[k]), _mm_sub_ps(qlo[k], hi)), _mm_setzero_ps());
+      d2 = _mm_add_ps(d2, _mm_mul_ps(gap, gap));
+    }
+    return d2;
+  }
+#else
+  /// Float lower bounds of the squared distances from the query interval
+  /// [xlo, xhi] to the child boxes; returns the mask of those <= threshold.
+  static int BoxDistances(
+    const Node& node, const float* xlo, const float* xhi, float threshold, float* dist2)
+  {
+    float lo[DIM][kWidth], hi[DIM][kWidth];
+    DecodeBoxes(node, lo, hi);
+    int mask = 0;
+    for (int c = 0; c < kWidth; ++c)
+    {
+      float sum = 0.0f;
+      for (int k = 0; k < DIM; ++k)
+      {
+        // Same NaN rule as maxps (the second operand): a NaN box bound (from
+        // coordinates beyond the float range) gives a gap of 0, never a prune.
+        auto maxps = [](float a, float b) { return a > b ? a : b; };
+        const float gap = maxps(maxps(lo[k][c] - xhi[k], xlo[k] - hi[k][c]), 0.0f);
+        sum += gap * gap;
+      }
+      dist2[c] = sum;
+      mask |= (sum <= threshold) << c;
+    }
+    return mask;
+  }
+#endif
+
+  /// A child to visit and its sort key: a lower bound of its squared
+  /// distance (closest points) or of its entry parameter (rays).
+  struct Entry
+  {
+    std::uint32_t Ref;
+    float Key;
+  };
+
+  /// Index of the lowest set bit of a nonzero mask.
+  static int CountTrailingZeros(int mask)
+  {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(static_cast<unsigned>(mask));
+#else
+    int c = 0;
+    while (!(mask >> c & 1))
+    {
+      ++c;
+    }
+    return c;
+#endif
+  }
+
+  /// Both traversals: the children in `mask` (empty slots skipped), sorted by
+  /// key, are prefetched (random queries over a large mesh are bound by
+  /// memory latency, so the misses should overlap); all but the nearest are
+  /// pushed, farthest first. Returns the nearest, or kEmptyChild if none.
+  std::uint32_t VisitSorted(
+    const Node& node, int mask, const float* keys, Entry* stack, int& top) const
+  {
+    Entry hits[kWidth];
+    int numHits = 0;
+    for (int m = mask; m; m &= m - 1)
+    {
+      const int c = CountTrailingZeros(m);
+      if (node.Child[c] != kEmptyChild)
+      {
+        const Entry e{ node.Child[c], keys[c] };
+        int j = numHits++;
+        for (; j > 0 && hits[j - 1].Key > e.Key; --j)
+        {
+          hits[j] = hits[j - 1];
+        }
+        hits[j] = e;
+      }
+    }
+    if (numHits == 0)
+    {
+      return kEmptyChild;
+    }
+    for (int j = 0; j < numHits; ++j)
+    {
+      this->Prefetch(hits[j].Ref);
+    }
+    for (int j = numHits - 1; j > 0; --j)
+    {
+      stack[top++] = hits[j];
+    }
+    return hits[0].Ref;
+  }
+
+  /// Box of the primitives below a child reference; false if an invariant of
+  /// Validate() fails in that subtree.
+  bool ValidateSubtree(
+    std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const;
+
+  /// State of a relaxed nearest search (see DistanceLowerBound).
+  struct Relaxation
+  {
+    double Shrink2 = 1.0;                                      // 1 / (1 + relaxation)²
+    double ExactBelow2 = std::numeric_limits<double>::infinity(); // relax only above this
+    float MinPruned2 = std::numeric_limits<float>::infinity();    // nearest skipped box
+  };
+
+  /// Index (into Primitives) of the nearest primitive, -1 if empty; best2
+  /// returns its squared distance. With a relaxation, the nearest primitive
+  /// found while skipping boxes that are not much nearer (see above). A valid
+  /// `start` (index into Primitives) is measured first: its distance bounds
+  /// the search from the outset.
+  std::int64_t FindNearest(const Vec<DIM>& x, double& best2, Relaxation* relax = nullptr,
+    std::int64_t start = -1) const
+  {
+#ifdef GRIDFREE_SIMD_DISPATCH
+    if (this->Simd == SimdLevel::Avx512)
+    {
+      return this->FindNearestAvx512(x, best2, relax, start);
+    }
+    if (this->Simd == SimdLevel::Avx2)
+    {
+      return this->FindNearestAvx2(x, best2, relax, start);
+    }
+#endif
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+  std::int64_t FindNearestBaseline(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const;
+#ifdef GRIDFREE_SIMD_DISPATCH
+  GRIDFREE_TARGET_AVX2 std::int64_t FindNearestAvx2(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
+  {
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+  GRIDFREE_TARGET_AVX512 std::int64_t FindNearestAvx512(
+    const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
+  {
+    return this->FindNearestBaseline(x, best2, relax, start);
+  }
+#endif
+
+  /// The ray in node coordinates, for the float box tests of RayBoxes: per
+  /// axis the float bounds of the (shifted) origin to subtract from the near
+  /// and far planes, the float reciprocal of the (scaled) direction, and
+  /// whether the near plane is the upper one (negative direction).
+  struct RayBoxQuery
+  {
+    float NearOrigin[DIM];
+    float FarOrigin[DIM];
+    float InvDirection[DIM];
+    bool Negative[DIM];
+  };
+
+  /// Float slab test of the ray against the child boxes: entry receives lower
+  /// bounds of the entry parameters, and the mask marks the children whose
+  /// interval [entry, exit] can meet [tMin, tMax].
+  ///
+  /// The origin bounds enclose the exact origin and the decoded boxes the
+  /// exact ones, so before rounding each slab interval contains the exact
+  /// one. The subtraction, the reciprocal and the product add a relative
+  /// error below 2^-22 (and an absolute one below FLT_MIN when subnormal), so
+  /// moving both ends outward by 2^-20 relative plus FLT_MIN makes the test
+  /// conservative. An axis with no direction has an infinite reciprocal: its
+  /// slab gives +-inf, or NaN (0 * inf) when the origin bound lies exactly in
+  /// a box face; maxps / minps return their second operand on NaN, so such an
+  /// axis does not constrain the interval, as it should not.
+  static int RayBoxes(
+    const Node& node, const RayBoxQuery& q, float tMin, float tMax, float* entry)
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    const __m128 down = _mm_set1_ps(1.0f - 0x1p-20f);
+    const __m128 up = _mm_set1_ps(1.0f + 0x1p-20f);
+    const __m128 tiny = _mm_set1_ps(FLT_MIN);
+    int mask = 0;
+    for (int g = 0; g < kWidth / 4; ++g)
+    {
+      __m128 tNear = _mm_set1_ps(tMin);
+      __m128 tFar = _mm_set1_ps(tMax);
+      for (int k = 0; k < DIM; ++k)
+      {
+        __m128 lo, hi;
+        DecodeAxis(node, k, g, lo, hi);
+        const __m128 inv = _mm_set1_ps(q.InvDirection[k]);
+        const __m128 n =
+          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? hi : lo, _mm_set1_ps(q.NearOrigin[k])), inv);
+        const __m128 f =
+          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? lo : hi, _mm_set1_ps(q.FarOrigin[k])), inv);
+        tNear = _mm_max_ps(n, tNear);
+        tFar = _mm_min_ps(f, tFar);
+      }
+      tNear = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(tNear, down), _mm_mul_ps(tNear, up)), tiny);
+      tFar = _mm_add_ps(_mm_max_ps(_mm_mul_ps(tFar, up), _mm_mul_ps(tFar, down)), tiny);
+      _mm_storeu_ps(entry + 4 * g, tNear);
+      mask |= _mm_movemask_ps(_mm_cmple_ps(tNear, tFar)) << (4 * g);
+    }
+    return mask;
+#else
+    float lo[DIM][kWidth], hi[DIM][kWidth];
+    DecodeBoxes(node, lo, hi);
+    int mask = 0;
+    for (int c = 0; c < kWidth; ++c)
+    {
+      float tNear = tMin;
+      float tFar = tMax;
+      for (int k = 0; k < DIM; ++k)
+      {
+        const float n =
+          ((q.Negative[k] ? hi[k][c] : lo[k][c]) - q.NearOrigin[k]) * q.InvDirection[k];
+        const float f =
+          ((q.Negative[k] ? lo[k][c] : hi[k][c]) - q.FarOrigin[k]) * q.InvDirection[k];
+        tNear = n > tNear ? n : tNear; // NaN leaves the bound unchanged
+        tFar = f < tFar ? f : tFar;
+      }
+      tNear = std::min(tNear * (1.0f - 0x1p-20f), tNear * (1.0f + 0x1p-20f)) - FLT_MIN;
+      tFar = std::max(tFar * (1.0f + 0x1p-20f), tFar * (1.0f - 0x1p-20f)) + FLT_MIN;
+      entry[c] = tNear;
+      mask |= (tNear <= tFar) << c;
+    }
+    return mask;
+#endif
+  }
+
+  /// Index (into Primitives) of the nearest primitive hit with t in
+  /// [tMin, t] (t holds tMax on entry and the hit on return; w its weights),
+  /// or of the first one found if AnyHit; -1 if none.
+  template <bool AnyHit>
+  std::int64_t TraceRay(const Vec<DIM>& origin, const Vec<DIM>& direction, double tMin,
+    double& t, Vec<DIM>& w) const
+  {
+#ifdef GRIDFREE_SIMD_DISPATCH
+    if (this->Simd == SimdLevel::Avx512)
+    {
+      return this->template TraceRayAvx512<AnyHit>(origin, direction, tMin, t, w);
+    }
+    if (this->Simd == SimdLevel::Avx2)
+    {
+      return this->template TraceRayAvx2<AnyHit>(origin, direction, tMin, t, w);
+    }
+#endif
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+  template <bool AnyHit>
+  std::int64_t TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& direction, double tMin,
+    double& t, Vec<DIM>& w) const;
+#ifdef GRIDFREE_SIMD_DISPATCH
+  template <bool AnyHit>
+  GRIDFREE_TARGET_AVX2 std::int64_t TraceRayAvx2(const Vec<DIM>& origin,
+    const Vec<DIM>& direction, double tMin, double& t, Vec<DIM>& w) const
+  {
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+  template <bool AnyHit>
+  GRIDFREE_TARGET_AVX512 std::int64_t TraceRayAvx512(const Vec<DIM>& origin,
+    const Vec<DIM>& direction, double tMin, double& t, Vec<DIM>& w) const
+  {
+    return this->template TraceRayBaseline<AnyHit>(origin, direction, tMin, t, w);
+  }
+#endif
+
+  SimdLevel Simd = DefaultSimdLevel(); // instruction set of the searches
+  // The two arrays every search reads; huge pages where the system grants
+  // them (HugePageAllocator.h).
+  std::vector<Node, HugePageAllocator<Node>> Nodes;
+  std::vector<PrimitiveData, HugePageAllocator<PrimitiveData>> Primitives; // in leaf order
+  std::vector<std::uint32_t> OriginalIds; // leaf order -> index given to Build (< 2^28)
+  BoundingBox<DIM> Box;
+  Vec<DIM> Center = Vec<DIM>::Zero(); // origin of the node coordinates
+};
+
+//------------------------------------------------------------------------------
+template <int DIM>
+void Bvh<DIM>::Build(
+  const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives)
+{
+  this->Nodes.clear();
+  this->Primitives.clear();
+  this->OriginalIds.clear();
+  this->Box = BoundingBox<DIM>();
+  this->Center.setZero();
+
+  const std::size_t n = primitives.size();
+  if (n == 0)
+  {
+    return;
+  }
+  if (n >= kMaxPrimitives)
+  {
+    throw std::length_error("gridfree::Bvh: too many primitives");
+  }
+
+  BuildState s;
+  s.Records.resize(n);
+  const auto numVerts = static_cast<std::int64_t>(vertices.size());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    BoundingBox<DIM> b;
+    for (const std::int64_t v : primitives[i])
+    {
+      if (v < 0 || v >= numVerts)
+      {
+        throw std::out_of_range("gridfree::Bvh: primitive references a missing vertex");
+      }
+      b.Expand(vertices[v]);
+    }
+    BuildRecord& record = s.Records[i];
+    for (int k = 0; k < DIM; ++k)
+    {
+      record.Lo[k] = detail::FloatDown(b.Min[k]);
+      record.Hi[k] = detail::FloatUp(b.Max[k]);
+    }
+    record.Id = static_cast<std::uint32_t>(i);
+    this->Box.Expand(b);
+  }
+
+  Range root;
+  root.Begin = 0;
+  root.End = static_cast<std::uint32_t>(n);
+  this->Evaluate(s, root, 0);
+  // The root is always an internal node, so traversal has a single entry path.
+  this->Center = this->Box.Center();
+  // About one node per 7 primitives is typical (leaves of ~2.5 primitives, 3
+  // leaves per node and a third more for the levels above); reserving for the
+  // worst case (one per kMaxLeafSize / 2) would hold 64 bytes per 2 primitives
+  // until the shrink below, a third of the peak memory of a 10M build.
+  this->Nodes.reserve(n / 6 + 1);
+  if (root.Leaf)
+  {
+    Node node;
+    this->EncodeBoxes(node, &root, 1);
+    node.Child[0] = kLeafFlag | (root.Begin << 3) | (root.End - root.Begin);
+    this->Nodes.push_back(node);
+  }
+  else
+  {
+    this->BuildNode(s, root, 0);
+  }
+  this->Nodes.shrink_to_fit();
+  // Only the leaf order is needed from here on: release the records before
+  // the primitives are copied, to lower the peak memory of large builds.
+  this->OriginalIds.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->OriginalIds[i] = s.Records[i].Id;
+  }
+  std::vector<BuildRecord>().swap(s.Records);
+
+  // Copy the primitives in leaf order so that a leaf is contiguous in memory.
+  this->Primitives.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const auto& ids = primitives[static_cast<std::size_t>(this->OriginalIds[i])];
+    for (int k = 0; k < DIM; ++k)
+    {
+      this->Primitives[i].V[k] = vertices[ids[k]];
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// Computes the range's box and decides whether it becomes a leaf or where it
+// splits, using a 16-bin SAH sweep over each axis of the centroid box.
+template <int DIM>
+void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
+{
+  constexpr int kBins = 16;
+  // Relative cost of descending one level vs. one primitive test; box tests
+  // are cheap (4 at a time) compared to a triangle test.
+  constexpr double kTraversalCost = 1.0;
+
+  BuildRecord* const first = s.Records.data() + r.Begin;
+  BuildRecord* const last = s.Records.data() + r.End;
+  // Range box and centroid box in one pass, in float (the records' boxes are
+  // already rounded outward, and float min/max is exact).
+  float boxLo[DIM], boxHi[DIM], cLo[DIM], cHi[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    boxLo[k] = cLo[k] = std::numeric_limits<float>::infinity();
+    boxHi[k] = cHi[k] = -std::numeric_limits<float>::infinity();
+  }
+  for (const BuildRecord* p = first; p != last; ++p)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      boxLo[k] = std::min(boxLo[k], p->Lo[k]);
+      boxHi[k] = std::max(boxHi[k], p->Hi[k]);
+      const float c = p->Center(k);
+      cLo[k] = std::min(cLo[k], c);
+      cHi[k] = std::max(cHi[k], c);
+    }
+  }
+  r.Box = BoundingBox<DIM>();
+  if (r.End > r.Begin)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      r.Box.Min[k] = boxLo[k];
+      r.Box.Max[k] = boxHi[k];
+    }
+  }
+  r.Leaf = true;
+  r.Mid = r.Begin;
+  const std::uint32_t n = r.End - r.Begin;
+  if (n <= 1)
+  {
+    return;
+  }
+  const bool mustSplit = n > static_cast<std::uint32_t>(kMaxLeafSize);
+  int longest = 0;
+  double extent[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    extent[k] = static_cast<double>(cHi[k]) - static_cast<double>(cLo[k]);
+    longest = extent[k] > extent[longest] ? k : longest;
+  }
+
+  // Object median along the longest centroid axis: always balanced, used when
+  // the SAH has no valid split or the tree got too deep.
+  auto medianSplit = [&]()
+  {
+    const int axis = longest;
+    r.Mid = r.Begin + n / 2;
+    std::nth_element(first, first + n / 2, last,
+      [&](const BuildRecord& p, const BuildRecord& q) { return p.Center(axis) < q.Center(axis); });
+    r.Leaf = false;
+  };
+
+  if (level >= kMaxSahLevel || !(extent[longest] > 0.0))
+  {
+    if (mustSplit)
+    {
+      medianSplit();
+    }
+    return;
+  }
+
+  // Bins of all axes filled in one pass over the range.
+  struct Bin
+  {
+    std::uint32_t Count = 0;
+    float Lo[DIM];
+    float Hi[DIM];
+  };
+  Bin bins[DIM][kBins];
+  float scale[DIM];
+  for (int axis = 0; axis < DIM; ++axis)
+  {
+    // Float is enough to bin (the same function bins and partitions, so the
+    // two always agree); the product is clamped below because rounding may
+    // push the largest centre to kBins.
+    scale[axis] = extent[axis] > 0.0 ? static_cast<float>(kBins / extent[axis]) : 0.0f;
+    for (Bin& bin : bins[axis])
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        bin.Lo[k] = std::numeric_limits<float>::infinity();
+        bin.Hi[k] = -std::numeric_limits<float>::infinity();
+      }
+    }
+  }
+  auto binOf = [&](const BuildRecord& p, int axis)
+  {
+    // Centres beyond the float range are infinite or NaN, and so may be the
+    // product (inf * 0): those go to the last bin (converting NaN to int is
+    // undefined, and gave an index far outside the bins).
+    const float b = (p.Center(axis) - cLo[axis]) * scale[axis];
+    return b < static_cast<float>(kBins - 1) ? (b > 0.0f ? static_cast<int>(b) : 0) : kBins - 1;
+  };
+  for (const BuildRecord* p = first; p != last; ++p)
+  {
+    for (int axis = 0; axis < DIM; ++axis)
+    {
+      Bin& bin = bins[axis][binOf(*p, axis)];
+      bin.Count++;
+      for (int k = 0; k < DIM; ++k)
+      {
+        bin.Lo[k] = std::min(bin.Lo[k], p->Lo[k]);
+        bin.Hi[k] = std::max(bin.Hi[k], p->Hi[k]);
+      }
+    }
+  }
+  auto halfArea = [](const float (&lo)[DIM], const float (&hi)[DIM])
+  {
+    double e[DIM];
+    for (int k = 0; k < DIM; ++k)
+    {
+      e[k] = std::max(0.0, static_cast<double>(hi[k]) - static_cast<double>(lo[k]));
+    }
+    if constexpr (DIM == 3)
+    {
+      return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+    }
+    else
+    {
+      return e[0] + e[1];
+    }
+  };
+  auto grow = [](float (&lo)[DIM], float (&hi)[DIM], const Bin& bin)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      lo[k] = std::min(lo[k], bin.Lo[k]);
+      hi[k] = std::max(hi[k], bin.Hi[k]);
+    }
+  };
+
+  double bestCost = std::numeric_limits<double>::infinity();
+  int bestAxis = -1;
+  int bestBin = -1;
+  for (int axis = 0; axis < DIM; ++axis)
+  {
+    if (!(extent[axis] > 0.0))
+    {
+      continue;
+    }
+    // Right-to-left sweep stores the cost of the right part of every split.
+    double rightCost[kBins];
+    float lo[DIM], hi[DIM];
+    for (int k = 0; k < DIM; ++k)
+    {
+      lo[k] = std::numeric_limits<float>::infinity();
+      hi[k] = -std::numeric_limits<float>::infinity();
+    }
+    std::uint32_t count = 0;
+    for (int b = kBins - 1; b > 0; --b)
+    {
+      grow(lo, hi, bins[axis][b]);
+      count += bins[axis][b].Count;
+      rightCost[b] = count ? halfArea(lo, hi) * count : 0.0;
+    }
+    for (int k = 0; k < DIM; ++k)
+    {
+      lo[k] = std::numeric_limits<float>::infinity();
+      hi[k] = -std::numeric_limits<float>::infinity();
+    }
+    count = 0;
+    for (int b = 1; b < kBins; ++b) // split between bins b - 1 and b
+    {
+      grow(lo, hi, bins[axis][b - 1]);
+      count += bins[axis][b - 1].Count;
+      if (count == 0 || count == n)
+      {
+        continue;
+      }
+      const double cost = halfArea(lo, hi) * count + rightCost[b];
+      if (cost < bestCost)
+      {
+        bestCost = cost;
+        bestAxis = axis;
+        bestBin = b;
+      }
+    }
+  }
+
+  if (bestAxis < 0)
+  {
+    if (mustSplit)
+    {
+      medianSplit();
+    }
+    return;
+  }
+  const double area = r.Box.HalfArea();
+  const double splitCost = kTraversalCost + (area > 0.0 ? bestCost / area : 0.0);
+  if (!mustSplit && static_cast<double>(n) <= splitCost)
+  {
+    return;
+  }
+
+  const BuildRecord* mid = std::partition(
+    first, last, [&](const BuildRecord& p) { return binOf(p, bestAxis) < bestBin; });
+  r.Mid = r.Begin + static_cast<std::uint32_t>(mid - first);
+  r.Leaf = false;
+  if (r.Mid == r.Begin || r.Mid == r.End)
+  {
+    medianSplit(); // cannot happen: the bins of both sides are not empty
+  }
+}
+
+//------------------------------------------------------------------------------
+// Creates the node for a range that must split, opening up to 4 children: the
+// range is split in two, then the child with the largest area is split again
+// until there are 4 children or only leaves are left.
+template <int DIM>
+std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level)
+{
+  Range kids[kWidth];
+  int count = 1;
+  kids[0] = r;
+  for (;;)
+  {
+    int pick = -1;
+    double pickArea = -1.0;
+    for (int i = 0; i < count; ++i)
+    {
+      // The first inner child is always taken: a NaN area (inf * 0 for a flat
+      // box beyond the float range) must not leave it unsplit, which recursed
+      // on the same range forever.
+      const double area = kids[i].Box.HalfArea();
+      if (!kids[i].Leaf && (pick < 0 || area > pickArea))
+      {
+        pick = i;
+        pickArea = area;
+      }
+    }
+    if (pick < 0 || count == kWidth)
+    {
+      break;
+    }
+    const Range parent = kids[pick];
+    kids[pick].Begin = parent.Begin;
+    kids[pick].End = parent.Mid;
+    kids[count].Begin = parent.Mid;
+    kids[count].End = parent.End;
+    this->Evaluate(s, kids[pick], level + 1);
+    this->Evaluate(s, kids[count], level + 1);
+    ++count;
+  }
+
+  // Nodes are stored depth first: the parent, then each child's subtree.
+  const auto index = static_cast<std::uint32_t>(this->Nodes.size());
+  Node node;
+  this->EncodeBoxes(node, kids, count);
+  this->Nodes.push_back(node);
+  for (int i = 0; i < count; ++i)
+  {
+    const Range& kid = kids[i];
+    // Recursion reallocates Nodes: compute the child before storing it.
+    const std::uint32_t child = kid.Leaf ? (kLeafFlag | (kid.Begin << 3) | (kid.End - kid.Begin))
+                                         : this->BuildNode(s, kid, level + 1);
+    this->Nodes[index].Child[i] = child;
+  }
+  return index;
+}
+
+//------------------------------------------------------------------------------
+// Quantizes the children's boxes, rounding every code outward.
+//
+// A decoded bound is computed in float as Origin + q * Scale, possibly fused;
+// its error is below 2^-23 (|Origin| + q * Scale), so codes are chosen against
+// the exact value shifted by the margin 2^-22 (|Origin| + q * Scale). Code 0
+// decodes to Origin exactly. Box corners are first moved by 2^-50 of their
+// magnitude to cover the rounding of the recentering subtraction.
+template <int DIM>
+void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
+{
+  auto lower = [](double v) { return v - std::abs(v) * 0x1p-50; };
+  auto upper = [](double v) { return v + std::abs(v) * 0x1p-50; };
+  for (int i = 0; i < kWidth; ++i)
+  {
+    node.Child[i] = kEmptyChild;
+  }
+  for (int k = 0; k < DIM; ++k)
+  {
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -lo;
+    for (int i = 0; i < count; ++i)
+    {
+      lo = std::min(lo, lower(kids[i].Box.Min[k] - this->Center[k]));
+      hi = std::max(hi, upper(kids[i].Box.Max[k] - this->Center[k]));
+    }
+    const float origin = detail::FloatDown(lo);
+    const double o = origin;
+    auto margin = [&](double qs) { return 0x1p-22 * (std::abs(o) + qs); };
+    // Smallest scale whose code 255 still decodes above hi; kept normal so
+    // that q * Scale never loses relative precision.
+    float scale = std::max(
+      detail::FloatUp((hi - o + 0x1p-22 * std::abs(o)) / (255.0 * (1.0 - 0x1p-21))), 0x1p-100f);
+    while (o + 255.0 * scale - margin(255.0 * scale) < hi)
+    {
+      scale = std::nextafter(scale, std::numeric_limits<float>::infinity());
+    }
+    const double sc = scale;
+    node.Origin[k] = origin;
+    node.Scale[k] = scale;
+    for (int i = 0; i < kWidth; ++i)
+    {
+      if (i >= count)
+      {
+        node.QLo[k][i] = 255; // empty slot: inverted box, never visited anyway
+        node.QHi[k][i] = 0;
+        continue;
+      }
+      const double clo = lower(kids[i].Box.Min[k] - this->Center[k]);
+      const double chi = upper(kids[i].Box.Max[k] - this->Center[k]);
+      // Beyond the float range (|coordinates| > ~3e38) bounds and origin may
+      // be infinite and the quotients NaN: take the outermost code then
+      // (converting NaN to int is undefined).
+      const double fl = std::floor((clo - o) / sc);
+      int ql = fl > 0.0 ? static_cast<int>(std::min(fl, 255.0)) : 0;
+      while (ql > 0 && o + ql * sc + margin(ql * sc) > clo)
+      {
+        --ql;
+      }
+      const double ch = std::ceil((chi - o) / sc);
+      int qh = ch < 255.0 ? static_cast<int>(std::max(ch, 0.0)) : 255;
+      while (qh < 255 && o + qh * sc - margin(qh * sc) < chi)
+      {
+        ++qh;
+      }
+      node.QLo[k][i] = static_cast<std::uint8_t>(ql);
+      node.QHi[k][i] = static_cast<std::uint8_t>(qh);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+std::int64_t Bvh<DIM>::FindNearestBaseline(
+  const Vec<DIM>& x, double& best2, Relaxation* relax, std::int64_t start) const
+{
+  best2 = std::numeric_limits<double>::infinity();
+  if (this->Nodes.empty())
+  {
+    return -1;
+  }
+  const double exactBelow2 = relax ? relax->ExactBelow2 : 0.0;
+  const double shrink2 = relax ? relax->Shrink2 : 1.0;
+  std::int64_t best = -1;
+  float threshold = std::numeric_limits<float>::infinity();
+  auto tighten = [&]()
+  {
+    threshold = detail::PruneThreshold(relax && best2 > exactBelow2 ? best2 * shrink2 : best2);
+  };
+  if (start >= 0 && static_cast<std::size_t>(start) < this->Primitives.size())
+  {
+    best2 = this->Primitives[static_cast<std::size_t>(start)].SquaredDistance(x, best2);
+    best = start;
+    tighten();
+  }
+  float minPruned2 = std::numeric_limits<float>::infinity();
+
+  // The query in node coordinates, as a float interval [xlo, xhi] that
+  // contains the exact x - Center despite the rounding of the subtraction.
+  float xlo[DIM], xhi[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    const double y = x[k] - this->Center[k];
+    xlo[k] = detail::FloatDown(y - std::abs(y) * 0x1p-50);
+    xhi[k] = detail::FloatUp(y + std::abs(y) * 0x1p-50);
+  }
+#ifdef GRIDFREE_BVH_USE_SSE
+  __m128 qlo[DIM], qhi[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    qlo[k] = _mm_set1_ps(xlo[k]);
+    qhi[k] = _mm_set1_ps(xhi[k]);
+  }
+  const __m128 inf4 = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  __m128 pruned4 = inf4; // nearest skipped child box, per lane
+#endif
+
+  Entry stack[kStackSize];
+  int top = 0;
+  stack[top++] = Entry{ 0u, 0.0f };
+
+  while (top > 0)
+  {
+    const Entry entry = stack[--top];
+    if (entry.Key > threshold)
+    {
+      minPruned2 = std::min(minPruned2, entry.Key);
+      continue; // a closer primitive was found since this entry was pushed
+    }
+    std::uint32_t ref = entry.Ref;
+    for (;;) // descend towards the nearest child, pushing the others
+    {
+      if (ref & kLeafFlag)
+      {
+        const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
+        const std::uint32_t end = begin + (ref & 7u);
+        for (std::uint32_t i = begin; i < end; ++i)
+        {
+          const double d2 = this->Primitives[i].SquaredDistance(x, best2);
+          if (d2 < best2)
+          {
+            best2 = d2;
+            best = i;
+          }
+          else if (best < 0)
+          {
+            // Beyond ~1e154 squared distances overflow to inf (or NaN): keep
+            // the first primitive then, so that a query always gets one.
+            best = i;
+          }
+        }
+        tighten();
+        break;
+      }
+
+      // Children to visit: boxes within the threshold, empty slots left out
+      // (their inverted boxes may have a finite distance). Relaxed searches
+      // remember the nearest box they skip.
+      const Node& node = this->Nodes[ref];
+      float dist2[kWidth];
+      int mask = 0;
+#ifdef GRIDFREE_BVH_USE_SSE
+      const __m128 t4 = _mm_set1_ps(threshold);
+      for (int g = 0; g < kWidth / 4; ++g)
+      {
+        const __m128 d2 = BoxDistances(node, g, qlo, qhi);
+        _mm_storeu_ps(dist2 + 4 * g, d2);
+        const __m128 empty = _mm_castsi128_ps(_mm_cmpeq_epi32(
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(node.Child + 4 * g)),
+          _mm_set1_epi32(-1)));
+        const __m128 pass = _mm_andnot_ps(empty, _mm_cmple_ps(d2, t4));
+        mask |= _mm_movemask_ps(pass) << (4 * g);
+        // minps returns its second operand when either is NaN: the running
+        // minimum goes second so that it is never replaced by a NaN.
+        const __m128 visitedOrEmpty = _mm_or_ps(pass, empty);
+        pruned4 = _mm_min_ps(_mm_or_ps(_mm_and_ps(visitedOrEmpty, inf4),
+                               _mm_andnot_ps(visitedOrEmpty, d2)),
+          pruned4);
+      }
+#else
+      mask = BoxDistances(node, xlo, xhi, threshold, dist2);
+      for (int c = 0; c < kWidth; ++c)
+      {
+        if (node.Child[c] == kEmptyChild)
+        {
+          mask &= ~(1 << c);
+        }
+        else if (!(mask >> c & 1))
+        {
+          minPruned2 = std::min(minPruned2, dist2[c]);
+        }
+      }
+#endif
+      if (mask == 0)
+      {
+        break;
+      }
+      if ((mask & (mask - 1)) == 0) // a single child: nothing to sort or push
+      {
+        ref = node.Child[CountTrailingZeros(mask)];
+        this->Prefetch(ref);
+        continue;
+      }
+      ref = this->VisitSorted(node, mask, dist2, stack, top);
+    }
+  }
+  if (relax)
+  {
+#ifdef GRIDFREE_BVH_USE_SSE
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, pruned4);
+    for (const float v : lanes)
+    {
+      minPruned2 = std::min(minPruned2, v);
+    }
+#endif
+    relax->MinPruned2 = std::min(relax->MinPruned2, minPruned2);
+  }
+  return best;
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+bool Bvh<DIM>::Validate() const
+{
+  if (this->Primitives.empty())
+  {
+    return this->Nodes.empty() && this->OriginalIds.empty();
+  }
+  if (this->Nodes.empty() || this->OriginalIds.size() != this->Primitives.size())
+  {
+    return false;
+  }
+  std::vector<char> seen(this->Primitives.size(), 0);
+  BoundingBox<DIM> content;
+  if (!this->ValidateSubtree(0u, 1, seen, content))
+  {
+    return false;
+  }
+  return std::all_of(seen.begin(), seen.end(), [](char c) { return c == 1; });
+}
+
+template <int DIM>
+bool Bvh<DIM>::ValidateSubtree(
+  std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const
+{
+  content = BoundingBox<DIM>();
+  if (ref & kLeafFlag)
+  {
+    const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
+    const std::uint32_t count = ref & 7u;
+    if (count == 0 || count > static_cast<std::uint32_t>(kMaxLeafSize) ||
+      begin + count > this->Primitives.size())
+    {
+      return false;
+    }
+    for (std::uint32_t i = begin; i < begin + count; ++i)
+    {
+      seen[i]++;
+      for (const auto& v : this->Primitives[i].V)
+      {
+        content.Expand(v);
+      }
+    }
+    return true;
+  }
+  if (ref >= this->Nodes.size() || depth > kMaxDepth)
+  {
+    return false;
+  }
+  const Node& node = this->Nodes[ref];
+  float lo[DIM][kWidth], hi[DIM][kWidth];
+  DecodeBoxes(node, lo, hi);
+  for (int c = 0; c < kWidth; ++c)
+  {
+    if (node.Child[c] == kEmptyChild)
+    {
+      continue;
+    }
+    BoundingBox<DIM> box;
+    if (!this->ValidateSubtree(node.Child[c], depth + 1, seen, box))
+    {
+      return false;
+    }
+    for (int k = 0; k < DIM; ++k)
+    {
+      // Same outward shift as the encoder and the query for the subtraction.
+      const double l = box.Min[k] - this->Center[k];
+      const double h = box.Max[k] - this->Center[k];
+      if (!(lo[k][c] <= l - std::abs(l) * 0x1p-50 && hi[k][c] >= h + std::abs(h) * 0x1p-50))
+      {
+        return false;
+      }
+    }
+    content.Expand(box);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+ClosestPointResult<DIM> Bvh<DIM>::ClosestPoint(const Vec<DIM>& x, NearestHint& hint) const
+{
+  ClosestPointResult<DIM> result;
+  if (!(hint.Exact && hint.Point == x && hint.Primitive >= 0 &&
+        static_cast<std::size_t>(hint.Primitive) < this->Primitives.size()))
+  {
+    double best2;
+    hint.Primitive = this->FindNearest(x, best2, nullptr, hint.Primitive);
+    hint.Exact = true;
+    hint.Point = x;
+  }
+  const std::int64_t best = hint.Primitive;
+  if (best < 0)
+  {
+    return result;
+  }
+  const auto cp = this->Primitives[best].ClosestPoint(x);
+  result.point = cp.point;
+  result.distance = std::sqrt(cp.squaredDistance);
+  result.primitive = this->OriginalIds[best];
+  result.barycentric = cp.weights;
+  return result;
+}
+
+//------------------------------------------------------------------------------
+// Ray traversal. The primitive tests use the ray as given, in double. The box
+// tests use, in float, the same ray written as
+//   origin + tc * direction + t' * (2^shift * direction),  t = tc + 2^-shift t'
+// where the power-of-two scale brings the largest direction component into
+// [1, 2) (exact, and keeps every used reciprocal within float range), and tc
+// is about where the ray enters the whole boundary box, so that an origin
+// far away does not cost the float boxes their precision. The shifted origin
+// is rounded to a float interval that contains the exact one.
+template <int DIM>
+template <bool AnyHit>
+std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& direction,
+  double tMin, double& t, Vec<DIM>& w) const
+{
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double tMax = t;
+  const double dMax = direction.cwiseAbs().maxCoeff();
+  if (this->Nodes.empty() || !origin.allFinite() || !direction.allFinite() || dMax == 0.0 ||
+    !(tMin <= tMax) || tMin == inf || tMax == -inf)
+  {
+    return -1;
+  }
+  const detail::RayFrame<DIM> frame(origin, direction);
+
+  int exponent;
+  std::frexp(dMax, &exponent);
+  const int shift = 1 - exponent;
+
+  // Any start works (the bounds below hold for every tc); the entry into the
+  // root box, clamped to the window, keeps the float box coordinates small.
+  double entry = -inf;
+  for (int k = 0; k < DIM; ++k)
+  {
+    if (direction[k] != 0.0)
+    {
+      const double a = (this->Box.Min[k] - origin[k]) / direction[k];
+      const double b = (this->Box.Max[k] - origin[k]) / direction[k];
+      entry = std::max(entry, std::min(a, b));
+    }
+  }
+  double tc = std::min(std::max(entry, tMin), tMax);
+  if (!std::isfinite(tc))
+  {
+    tc = std::min(std::max(0.0, tMin), tMax);
+  }
+
+  // Shifted origin y - Center, with a bound on the rounding of each of its 3
+  // operations (each below 2^-53 of |a| + |b|).
+  double y[DIM], err[DIM];
+  for (int k = 0; k < DIM; ++k)
+  {
+    const double a = origin[k] - this->Center[k];
+    const double b = tc * direction[k];
+    y[k] = a + b;
+    err[k] = (std::abs(a) + std::abs(b)) * 0x1p-50;
+  }
+
+  // |t'| of any hit is below tBound: along the dominant axis j the ray moves
+  // at least |t'| while it must stay within the boundary box.
+  int j = 0;
+  direction.cwiseAbs().maxCoeff(&j);
+  const double boxLo = this->Box.Min[j] - this->Center[j];
+  const double boxHi = this->Box.Max[j] - this->Center[j];
+  const double tBound = (std::max(std::abs(boxLo - y[j]), std::abs(boxHi - y[j])) + err[j] +
+                          (std::abs(boxLo) + std::abs(boxHi)) * 0x1p-50) *
+    (1.0 + 0x1p-40);
+
+  RayBoxQuery q;
+  for (int k = 0; k < DIM; ++k)
+  {
+    const double dk = std::ldexp(direction[k], shift);
+    double e = err[k];
+    if (std::abs(dk) >= 0x1p-100)
+    {
+      q.InvDirection[k] = static_cast<float>(1.0 / dk);
+      q.Negative[k] = dk < 0.0;
+    }
+    else
+    {
+      // Treated as 0 (reciprocal +inf): the ray drifts by less than
+      // tBound * 2^-99 along this axis (2^-100 plus underflow of the scaling),
+      // which the origin interval absorbs.
+      q.InvDirection[k] = std::numeric_limits<float>::infinity();
+      q.Negative[k] = false;
+      e += tBound * 0x1p-99;
+    }
+    const float lo = detail::FloatDown(y[k] - e);
+    const float hi = detail::FloatUp(y[k] + e);
+    q.NearOrigin[k] = q.Negative[k] ? lo : hi;
+    q.FarOrigin[k] = q.Negative[k] ? hi : lo;
+  }
+
+  // Window in t' units. The margin of 2^-30 of |t| + |tc| is generous for the
+  // subtraction; it also keeps boxes whose exact entry is a little beyond
+  // the computed t of the best hit so far, so rounding of the primitive
+  // test never makes the traversal miss a primitive whose computed t is lower.
+  auto lowerT = [&](double v)
+  {
+    const double s = std::ldexp(v - tc - (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    return detail::FloatDown(std::max(s, -tBound));
+  };
+  auto upperT = [&](double v)
+  {
+    const double s = std::ldexp(v - tc + (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    return detail::FloatUp(std::min(s, tBound));
+  };
+  const float tMinBox = lowerT(tMin);
+  float tMaxBox = upperT(tMax);
+
+  Entry stack[kStackSize]; // keys: lower bounds of the entry parameter t'
+  int top = 0;
+  stack[top++] = Entry{ 0u, tMinBox };
+  std::int64_t best = -1;
+
+  while (top > 0)
+  {
+    const Entry next = stack[--top];
+    if (next.Key > tMaxBox)
+    {
+      continue; // a nearer hit was found since this entry was pushed
+    }
+    std::uint32_t ref = next.Ref;
+    for (;;) // descend towards the nearest child, pushing the others
+    {
+      if (ref & kLeafFlag)
+      {
+        const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
+        const std::uint32_t end = begin + (ref & 7u);
+        const std::int64_t before = best;
+        for (std::uint32_t i = begin; i < end; ++i)
+        {
+          double tHit;
+          Vec<DIM> weights;
+          if (frame.Intersect(this->Primitives[i].V, tMin, t, tHit, weights) &&
+            (best < 0 || tHit < t))
+          {
+            t = tHit;
+            w = weights;
+            best = i;
+            if constexpr (AnyHit)
+            {
+              return best;
+            }
+          }
+        }
+        if (best != before)
+        {
+          tMaxBox = std::min(tMaxBox, upperT(t));
+        }
+        break;
+      }
+
+      const Node& node = this->Nodes[ref];
+      float entries[kWidth];
+      const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
+      ref = this->VisitSorted(node, mask, entries, stack, top);
+      if (ref == kEmptyChild)
+      {
+        break;
+      }
+    }
+  }
+  return best;
+}
+
+//------------------------------------------------------------------------------
+template <int DIM>
+RayHit<DIM> Bvh<DIM>::Intersect(
+  const Vec<DIM>& origin, const Vec<DIM>& direction, double tMax, double tMin) const
+{
+  RayHit<DIM> hit;
+  double t = tMax;
+  Vec<DIM> w;
+  const std::int64_t best = this->template TraceRay<false>(origin, direction, tMin, t, w);
+  if (best < 0)
+  {
+    return hit;
+  }
+  hit.t = t;
+  hit.primitive = this->OriginalIds[best];
+  hit.barycentric = w;
+  hit.point = origin + t * direction;
+  return hit;
+}
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,346 @@
+// A closed mesh as a signed distance function (closed polylines of segments
+// in 2D, closed triangle surfaces in 3D), so that meshes take part in CSG
+// with implicit solids (paper "Monte Carlo Geometry Processing", Sec. 5.1.4:
+// walk on spheres only needs a distance bound, so CSG can mix meshes and
+// implicit functions freely).
+//
+// φ(x) = ±d(x), negative inside, where d is the exact distance of the BVH
+// (Bvh::Distance). The magnitude is the true distance whatever the sign, so
+// φ is 1-Lipschitz wherever the sign is right, and every CSG operator built
+// on it stays conservative (CsgFunctions.h).
+//
+// The sign: ray parity with a majority vote.
+// * The normal at the closest point is not used: when the closest point is
+//   on an edge or vertex, the normal of the primitive that reported it can
+//   point either way (angle-weighted pseudo-normals repair that only on
+//   clean, consistently oriented manifolds), and with inconsistently
+//   oriented triangles it is wrong for every flipped one.
+// * The generalized winding number (Jacobson et al. 2013) is robust to
+//   cracks and holes, but it sums SIGNED solid angles: half the triangles
+//   flipped drives it towards 0 everywhere, so it needs a consistent
+//   orientation. Its hierarchical evaluation also needs per-node dipole data
+//   that the public Bvh interface does not expose.
+// * Ray parity counts crossings and ignores orientation altogether. A ray
+//   only goes wrong when it passes through a crack, or grazes the surface
+//   tangentially through an edge or vertex (the watertight Bvh::Intersect
+//   then reports one crossing where there are 0 or 2); both are events of
+//   measure zero or of the crack's width. Five fixed, well-spread directions
+//   with irrational components vote (so that rays are not parallel to the
+//   axis-aligned or diagonal faces of voxel-derived, marching-cubes meshes,
+//   nor lined up with their lattice of vertices), and the vote stops as soon
+//   as three agree: a wrong answer needs three bad rays out of five.
+// * Crossings are counted by repeated nearest-hit queries, each starting just
+//   beyond the previous hit: Intersect(origin, d, tMax, tMin) accepts
+//   tMin <= t <= tMax (both inclusive), so tMin = t + gap, with a gap of 1e-9
+//   of the mesh diagonal far above the rounding of t. Hits closer than the
+//   gap count once: a ray through a shared edge or vertex that several
+//   primitives report (at nearly the same t), and exactly duplicated
+//   primitives, are one crossing. Duplicated vertices need no welding: the
+//   ray tests are watertight for bit-identical coordinates, indices or not.
+// * Outside the mesh box the answer is "outside" without any ray: a closed
+//   surface encloses nothing beyond its own box.
+// * Not handled: holes wider than cracks (an open surface has no inside),
+//   and self-intersecting surfaces, where parity is the even-odd rule, not
+//   the union of the overlapping solids. Nested shells are fine: a cavity
+//   is outside.
+//
+// Cost, measured on an 81920-triangle icosphere of radius 1 (g++ -O2, one
+// thread, on a shared machine, so ±20%):
+// * points near the surface (0.9 < |x| < 1.1), where walks spend most
+//   steps: Bvh::Distance ≈ 3.1 µs, Inside() ≈ 5.2 µs (three rays of two
+//   nearest-hit queries each: the crossing and the miss beyond it), Value()
+//   ≈ 8.5 µs, i.e. ≈ 2.8× Bvh::Distance;
+// * points uniform in [−1.2, 1.2]³ (42% outside the mesh box, where no ray
+//   is cast): Bvh::Distance ≈ 16 µs (deep inside a closed surface an exact
+//   distance visits many nearly equidistant triangles), Inside() ≈ 2.4 µs,
+//   Value() ≈ 1.1–1.2× Bvh::Distance.
+// A walk on a mesh alone should use the mesh directly (Boundary::SetMesh,
+// which never needs a sign and may relax its steps); this class is for CSG,
+// where the sign decides which operand is active.
+//
+// Everything is const after construction and nothing is cached: one object
+// serves any number of threads.
+#ifndef GRIDFREE_IMPLICIT_MESH_SIGNED_DISTANCE_H
+#define GRIDFREE_IMPLICIT_MESH_SIGNED_DISTANCE_H
+
+#include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/ClosestPointResult.h>
+#include <gridfree/implicit/SignedDistance.h>
+#include <gridfree/math/Vector.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gridfree
+{
+template <int DIM>
+class MeshSignedDistance final : public SignedDistanceFunction<DIM>
+{
+public:
+  using Primitive = typename Bvh<DIM>::Primitive;
+
+  // Rays of the vote (odd, so that there are no ties).
+  static constexpr int kRays = 5;
+
+  // Builds its own hierarchy over the mesh. Throws std::invalid_argument for
+  // an empty mesh, a non-finite vertex or an index outside `vertices`.
+  MeshSignedDistance(std::vector<Vec<DIM>> vertices, std::vector<Primitive> primitives)
+    : Vertices(std::move(vertices))
+    , Primitives(std::move(primitives))
+  {
+    this->Validate();
+    auto tree = std::make_shared<Bvh<DIM>>();
+    tree->Build(this->Vertices, this->Primitives);
+    this->Tree = std::move(tree);
+    this->Initialize();
+  }
+
+  // Shares a hierarchy already built from exactly these vertices and
+  // primitives (the arrays are kept for the normals of points on the mesh).
+  MeshSignedDistance(std::shared_ptr<const Bvh<DIM>> tree, std::vector<Vec<DIM>> vertices,
+    std::vector<Primitive> primitives)
+    : Vertices(std::move(vertices))
+    , Primitives(std::move(primitives))
+    , Tree(std::move(tree))
+  {
+    if (!this->Tree)
+    {
+      throw std::invalid_argument("MeshSignedDistance: no hierarchy");
+    }
+    this->Validate();
+    if (this->Tree->NumberOfPrimitives() != this->Primitives.size())
+    {
+      throw std::invalid_argument(
+        "MeshSignedDistance: the hierarchy was not built from these primitives");
+    }
+    this->Initialize();
+  }
+
+  static std::shared_ptr<MeshSignedDistance<DIM>> Create(
+    std::vector<Vec<DIM>> vertices, std::vector<Primitive> primitives)
+  {
+    return std::make_shared<MeshSignedDistance<DIM>>(std::move(vertices), std::move(primitives));
+  }
+
+  // ±(exact distance), negative inside; 0 on the mesh.
+  double Value(const Vec<DIM>& x) const override
+  {
+    const double d = this->Tree->Distance(x);
+    if (!(d > 0.0))
+    {
+      return d; // on the mesh (0), or NaN for a NaN query
+    }
+    return this->Inside(x) ? -d : d;
+  }
+
+  // The unit vector from the closest mesh point to x, turned inwards for
+  // points inside: the exact gradient wherever the closest point is unique.
+  // On the mesh itself (closer than the rounding of the closest point lets
+  // (x − closest) / d mean anything), the normal of the closest primitive,
+  // pointed to the side where a point a small step along it is outside:
+  // this is where ImplicitBoundaryGeometry::Normal asks, at its projections.
+  Vec<DIM> Gradient(const Vec<DIM>& x) const override
+  {
+    const ClosestPointResult<DIM> hit = this->Tree->ClosestPoint(x);
+    const Vec<DIM> away = x - hit.point;
+    const double d = away.norm();
+    if (d > this->OnMesh && std::isfinite(d))
+    {
+      return this->Inside(x) ? Vec<DIM>(-away / d) : Vec<DIM>(away / d);
+    }
+    if (hit.primitive >= 0)
+    {
+      const Vec<DIM> n = this->PrimitiveNormal(hit.primitive);
+      if (n.squaredNorm() > 0.0)
+      {
+        return this->Inside(x + this->NormalProbe * n) ? Vec<DIM>(-n) : n;
+      }
+    }
+    // A degenerate primitive has no normal: finite differences of φ.
+    return SignedDistanceFunction<DIM>::Gradient(x);
+  }
+
+  double Lipschitz() const override { return 1.0; }
+
+  BoundingBox<DIM> Bounds() const override { return this->Tree->Bounds(); }
+
+  // One part: a mesh is one CSG operand, so parts stay per operand.
+  std::int64_t NumberOfParts() const override { return 1; }
+
+  // Whether x is enclosed by the mesh: the majority of kRays parity votes.
+  // Points on the mesh itself may go either way (φ is 0 there anyway).
+  bool Inside(const Vec<DIM>& x) const
+  {
+    if (!this->Box.Contains(x))
+    {
+      return false;
+    }
+    int inside = 0;
+    int outside = 0;
+    for (int k = 0; k < kRays; ++k)
+    {
+      if (this->Crossings(x, this->Directions[k]) % 2 == 1)
+      {
+        ++inside;
+      }
+      else
+      {
+        ++outside;
+      }
+      if (2 * inside > kRays)
+      {
+        return true;
+      }
+      if (2 * outside > kRays)
+      {
+        return false;
+      }
+    }
+    return inside > outside;
+  }
+
+  // Crossings of the ray x + t d (t ≥ 0) with the mesh, hits closer together
+  // than the merging gap counted once. Exposed for diagnostics and tests.
+  std::int64_t Crossings(const Vec<DIM>& x, const Vec<DIM>& direction) const
+  {
+    std::int64_t count = 0;
+    double tMin = 0.0;
+    const double inf = std::numeric_limits<double>::infinity();
+    // Each hit moves tMin forward by at least the gap, and each primitive can
+    // be hit only once per ray, so this bound is never reached on a sane
+    // input; it only guards against a pathological one.
+    const std::int64_t limit = static_cast<std::int64_t>(this->Primitives.size()) + 1;
+    while (count < limit)
+    {
+      const RayHit<DIM> hit = this->Tree->Intersect(x, direction, inf, tMin);
+      if (!hit.Hit())
+      {
+        break;
+      }
+      ++count;
+      const double next = hit.t + this->Gap;
+      tMin = next > hit.t ? next : std::nextafter(hit.t, inf);
+    }
+    return count;
+  }
+
+  // Unit normal of a primitive in its vertex order (segment: left normal;
+  // triangle: right-handed), zero for a degenerate one.
+  Vec<DIM> PrimitiveNormal(std::int64_t primitive) const
+  {
+    return SimplexUnitNormal<DIM>(
+      this->Vertices, this->Primitives[static_cast<std::size_t>(primitive)]);
+  }
+
+  const std::shared_ptr<const Bvh<DIM>>& Hierarchy() const { return this->Tree; }
+  const std::vector<Vec<DIM>>& GetVertices() const { return this->Vertices; }
+  const std::vector<Primitive>& GetPrimitives() const { return this->Primitives; }
+  const std::array<Vec<DIM>, kRays>& RayDirections() const { return this->Directions; }
+
+private:
+  void Validate() const
+  {
+    if (this->Vertices.empty() || this->Primitives.empty())
+    {
+      throw std::invalid_argument("MeshSignedDistance: the mesh is empty");
+    }
+    for (const Vec<DIM>& v : this->Vertices)
+    {
+      if (!v.allFinite())
+      {
+        throw std::invalid_argument("MeshSignedDistance: vertices must be finite");
+      }
+    }
+    const std::int64_t n = static_cast<std::int64_t>(this->Vertices.size());
+    for (const Primitive& p : this->Primitives)
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        if (p[k] < 0 || p[k] >= n)
+        {
+          throw std::invalid_argument(
+            "MeshSignedDistance: a primitive refers to a missing vertex (" + std::to_string(p[k]) +
+            ")");
+        }
+      }
+    }
+  }
+
+  void Initialize()
+  {
+    this->Box = this->Tree->Bounds();
+    const double diagonal = this->Box.Diagonal();
+    // Rounding of a hit's t is relative to the distances within the box (the
+    // ray origin is inside it), far below 1e-9 of the diagonal; distinct
+    // surfaces closer than that are not resolved by any double computation.
+    this->Gap = 1e-9 * diagonal;
+    // Probe step for the side of a point on the mesh: well above rounding,
+    // well below any feature of a mesh that is not pathologically thin.
+    this->NormalProbe = 1e-7 * diagonal;
+    // The closest point carries a rounding error of a few ulps of the
+    // coordinates; below 1e-9 of their scale its direction from x is noise
+    // (above, it is accurate to about 1e-7).
+    const double magnitude =
+      std::max(this->Box.Min.cwiseAbs().maxCoeff(), this->Box.Max.cwiseAbs().maxCoeff());
+    const double scale = std::max(diagonal, magnitude);
+    this->OnMesh = 1e-9 * scale;
+    this->Directions = MakeDirections();
+  }
+
+  // Well-spread unit directions with irrational components. 2D: five
+  // directions 72° apart, turned by an irrational fraction of the circle.
+  // 3D: the five-point Fibonacci lattice of the sphere (every pair at least
+  // 87° apart), rotated about an irrational axis by one radian, so that no
+  // direction lies in a coordinate plane or along a lattice diagonal.
+  static std::array<Vec<DIM>, kRays> MakeDirections()
+  {
+    std::array<Vec<DIM>, kRays> d;
+    if constexpr (DIM == 2)
+    {
+      const double turn = 0.5 * (std::sqrt(5.0) - 1.0); // golden ratio − 1
+      for (int k = 0; k < kRays; ++k)
+      {
+        // Order 0, 2, 4, 1, 3: the first three (the usual vote) are not
+        // neighbours, at least 72° apart and spanning the whole circle.
+        const int slot = (2 * k) % kRays;
+        const double angle = 2.0 * M_PI * (slot + turn) / kRays;
+        d[k] = Vec<DIM>(std::cos(angle), std::sin(angle));
+      }
+    }
+    else
+    {
+      const double golden = M_PI * (3.0 - std::sqrt(5.0));
+      const Eigen::AngleAxisd rotation(
+        1.0, Vec3(1.0, std::sqrt(2.0), std::sqrt(3.0)).normalized());
+      for (int k = 0; k < kRays; ++k)
+      {
+        const double z = 1.0 - (2.0 * k + 1.0) / kRays;
+        const double r = std::sqrt(1.0 - z * z);
+        const double phi = golden * k;
+        d[k] = (rotation * Vec3(r * std::cos(phi), r * std::sin(phi), z)).normalized();
+      }
+    }
+    return d;
+  }
+
+  std::vector<Vec<DIM>> Vertices;
+  std::vector<Primitive> Primitives;
+  std::shared_ptr<const Bvh<DIM>> Tree;
+  BoundingBox<DIM> Box;
+  double Gap = 0.0;
+  double NormalProbe = 0.0;
+  double OnMesh = 0.0;
+  std::array<Vec<DIM>, kRays> Directions;
+};
+} // namespace gridfree
+
+#endif

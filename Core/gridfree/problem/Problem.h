@@ -1,0 +1,568 @@
+// A problem built once and answered in batches: the boundary (geometry,
+// hierarchy and values), the equation and its settings, and the sources.
+// This is the one door into the estimators for the VTK filters and for any
+// C++ program: build a Problem when the boundary or the equation changes,
+// then ask it for estimates at any list of points, as often as needed,
+// without rebuilding anything.
+//
+// A batch runs every point's walks on all threads (TBB) while the calling
+// thread reports progress and polls for abort. The numbers depend only on
+// the seed, each point's coordinates and the walk numbers, never on the
+// thread count: points are independent, and with fewer points than twice
+// the threads each point's walks are spread over the threads in blocks whose
+// samples are recorded and replayed in walk order. A batch may resume from
+// running sums kept by the previous one (progressive refinement, paper Sec.
+// 5.2; RunningSumsCache.h), bit for bit as if all walks ran at once.
+#ifndef GRIDFREE_PROBLEM_PROBLEM_H
+#define GRIDFREE_PROBLEM_PROBLEM_H
+
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/sources/SourceSet.h>
+#include <gridfree/statistics/RunningStatistics.h>
+#include <gridfree/statistics/RunningSumsCache.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <type_traits>
+#include <vector>
+
+namespace gridfree
+{
+// What one batch asks for.
+struct BatchRequest
+{
+  int WalksPerPoint = 128;
+  std::uint64_t Seed = 0;
+  // Threads to run on; 0 = all.
+  int Threads = 0;
+  // Derivatives (gradient, Hessian, directional derivative, divergence and
+  // curl) and control variates. Any of them runs the derivative estimator
+  // (DerivativeWalkOnSpheres.h), which also gives the value; none runs the
+  // plain one (WalkOnSpheres.h). Control variates are off unless asked for.
+  DerivativeRequest Derivatives = NoDerivatives();
+
+  bool DerivativeWalks() const
+  {
+    return this->Derivatives.Gradient || this->Derivatives.Hessian ||
+      this->Derivatives.Directional || this->Derivatives.ControlVariates;
+  }
+
+  static DerivativeRequest NoDerivatives()
+  {
+    DerivativeRequest none;
+    none.ControlVariates = false;
+    return none;
+  }
+};
+
+// Where a batch stands, for a progress report.
+struct BatchProgress
+{
+  // Of the batch's work done: walks run over walks to run, or points
+  // finished over points, whichever is further.
+  double Fraction = 0.0;
+  std::uint64_t WalksRun = 0;
+  double WalksToRun = 0.0;
+  double Seconds = 0.0;
+};
+
+// Called on the calling thread about ten times a second; returning false
+// aborts the batch (walks stop within one chunk of 1024 walks).
+using BatchProgressCallback = std::function<bool(const BatchProgress&)>;
+
+// Receives a finished point: its running statistics (Layout().Size numbers
+// per walk, at the slots of the batch's layout), its counters and, for the
+// derivative estimator, its status. Called for distinct points at once on
+// worker threads: writing to per-point storage needs no lock.
+using PointSink = std::function<void(
+  std::size_t point, const RunningStatistics& stats, const WalkCounters& counters,
+  DerivativeStatus status)>;
+
+// What a batch did, over the points it finished.
+struct BatchSummary
+{
+  bool Completed = false; // false: aborted, some points never reached the sink
+  SampleLayout Layout;    // the slots of each point's statistics
+  int ResumedWalksPerPoint = 0; // walks per point taken from kept sums
+  std::uint64_t WalksRun = 0;   // walks run by this batch (resumed ones excluded)
+  WalkCounters Totals;          // over finished points, resumed walks included
+  std::array<std::uint64_t, 3> StatusCounts = { 0, 0, 0 }; // per DerivativeStatus
+  bool UnboundedSource = false; // a volume source with unbounded support met the exterior
+  double Seconds = 0.0;
+};
+
+// Every point's means and variances of the mean, collected (EstimateAll).
+struct BatchEstimates
+{
+  BatchSummary Summary;
+  std::size_t Points = 0;
+  std::vector<double> Means;     // Points × Layout.Size
+  std::vector<double> Variances; // Points × Layout.Size (variance of the mean)
+  std::vector<WalkCounters> Counters;
+  std::vector<DerivativeStatus> Status;
+  std::vector<unsigned char> Finished; // 0 for points an abort left out
+
+  double Mean(std::size_t point, int slot) const
+  {
+    return this->Means[point * static_cast<std::size_t>(this->Summary.Layout.Size) + slot];
+  }
+  double Variance(std::size_t point, int slot) const
+  {
+    return this->Variances[point * static_cast<std::size_t>(this->Summary.Layout.Size) + slot];
+  }
+  // Component c of the solution, and its variance.
+  double Value(std::size_t point, int c = 0) const
+  {
+    return this->Mean(point, this->Summary.Layout.Value + c);
+  }
+  double ValueVariance(std::size_t point, int c = 0) const
+  {
+    return this->Variance(point, this->Summary.Layout.Value + c);
+  }
+};
+
+template <int DIM>
+class Problem
+{
+public:
+  // Walks of one point run in chunks of this many, with a check for abort
+  // in between: a point with millions of walks must not make abort wait for
+  // it. A multiple of the derivative estimator's control blocks (256), so
+  // chunks give the same numbers as one call.
+  static constexpr int kChunkWalks = 1024;
+
+  // Throws std::invalid_argument for a problem no walk can solve (no
+  // boundary, ε not positive, a screened equation without screening, a
+  // biharmonic boundary without g and h).
+  Problem(std::shared_ptr<const Boundary<DIM>> boundary, const WalkSettings& settings,
+    std::shared_ptr<const SourceSet<DIM>> sources = nullptr)
+    : Shape(std::move(boundary))
+    , Walk(settings)
+    , Sources(std::move(sources))
+  {
+    if (!this->Shape || this->Shape->Empty())
+    {
+      throw std::invalid_argument("the problem has no boundary");
+    }
+    if (!(settings.Epsilon > 0.0))
+    {
+      throw std::invalid_argument("epsilon must be positive");
+    }
+    if (settings.Problem == Equation::Biharmonic && this->Shape->Components() % 2 != 0)
+    {
+      throw std::invalid_argument("biharmonic boundary values must hold g and h");
+    }
+    if (settings.Problem == Equation::ScreenedPoisson && !(settings.ScreeningCoefficient > 0.0))
+    {
+      throw std::invalid_argument("the screening coefficient must be positive");
+    }
+  }
+
+  const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
+  const std::shared_ptr<const Boundary<DIM>>& SharedBoundary() const { return this->Shape; }
+  const WalkSettings& Settings() const { return this->Walk; }
+  const SourceSet<DIM>* GetSources() const { return this->Sources.get(); }
+
+  // Components of the solution (g's, or half of g and h's for the
+  // biharmonic equation).
+  int SolutionComponents() const
+  {
+    return this->Walk.Problem == Equation::Biharmonic ? this->Shape->Components() / 2
+                                                      : this->Shape->Components();
+  }
+
+  // The slots of each point's statistics for this request: the value (and
+  // Δu for the biharmonic equation) first, then the derivatives asked for.
+  SampleLayout Layout(const BatchRequest& request) const
+  {
+    if (request.DerivativeWalks())
+    {
+      auto volume = this->MakeVolume();
+      return DerivativeWalkOnSpheres<DIM>(
+        *this->Shape, this->Walk, request.Derivatives, volume.get(), this->Concentrated())
+        .Layout();
+    }
+    SampleLayout layout;
+    const int nc = this->SolutionComponents();
+    layout.Value = 0;
+    layout.Laplacian = this->Walk.Problem == Equation::Biharmonic ? nc : -1;
+    layout.Size = this->Walk.Problem == Equation::Biharmonic ? 2 * nc : nc;
+    return layout;
+  }
+
+  // Runs request.WalksPerPoint walks at every point (the first DIM of its
+  // three coordinates are the start point; all three key its random
+  // streams) and hands each finished point to `sink`. With `kept`, the batch
+  // continues from the sums it holds when they fit (same points, same
+  // layout, no more walks than asked) and keeps its own at the last block
+  // boundary; the caller clears `kept` when anything but the walk count
+  // changed. Exceptions of the estimators propagate.
+  BatchSummary Estimate(const std::vector<std::array<double, 3>>& points,
+    const BatchRequest& request, const PointSink& sink,
+    const BatchProgressCallback& progress = BatchProgressCallback(),
+    RunningSumsCache* kept = nullptr) const
+  {
+    BatchSummary summary;
+    const bool derivativeWalks = request.DerivativeWalks();
+    summary.Layout = this->Layout(request);
+    const int sampleSize = summary.Layout.Size;
+    const std::size_t numPoints = points.size();
+    const int walks = std::max(0, request.WalksPerPoint);
+    const std::uint64_t seed = request.Seed;
+
+    // Progressive refinement: continue from the kept sums, and keep this
+    // batch's at its last control block boundary (every walk for the plain
+    // estimator, whose walks are independent).
+    const int blockWalks = derivativeWalks ? DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
+    const int resumeBlock = derivativeWalks ? blockWalks : 1;
+    const bool resumed = kept &&
+      kept->CanResume(numPoints, sampleSize, resumeBlock, static_cast<std::uint64_t>(walks));
+    if (kept && !resumed)
+    {
+      kept->Reset(numPoints, sampleSize, resumeBlock);
+    }
+    const int startWalks = resumed ? static_cast<int>(kept->KeptWalks()) : 0;
+    const int keepAt =
+      kept ? static_cast<int>(kept->ResumePoint(static_cast<std::uint64_t>(walks))) : -1;
+    summary.ResumedWalksPerPoint = startWalks;
+    auto startPoint = [&](std::size_t i, RunningStatistics& stats, WalkCounters& counters,
+                        unsigned char& status) {
+      stats.Reset();
+      counters = WalkCounters();
+      status = 0;
+      if (resumed)
+      {
+        kept->Load(i, stats, counters, status);
+      }
+    };
+
+    const int threadCount = ResolveThreadCount(request.Threads);
+    const std::size_t blocksPerPoint =
+      static_cast<std::size_t>((walks - startWalks + blockWalks - 1) / blockWalks);
+    const bool walkLevel = threadCount > 1 && numPoints < 2 * static_cast<std::size_t>(threadCount) &&
+      blocksPerPoint > 1 &&
+      static_cast<double>(numPoints) * (walks - startWalks) * sampleSize <= 16.0 * 1024 * 1024;
+
+    const auto start = std::chrono::steady_clock::now();
+    const double totalWalks =
+      static_cast<double>(numPoints) * static_cast<double>(walks - startWalks);
+    std::atomic<std::uint64_t> walksDone{ 0 };
+    auto report = [&](double fraction) {
+      if (!progress)
+      {
+        return true;
+      }
+      BatchProgress p;
+      p.WalksRun = walksDone.load(std::memory_order_relaxed);
+      p.WalksToRun = totalWalks;
+      p.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      p.Fraction = std::max(
+        fraction, totalWalks > 0.0 ? std::min(1.0, static_cast<double>(p.WalksRun) / totalWalks) : 1.0);
+      return progress(p);
+    };
+
+    std::mutex totalsMutex;
+    auto addTotals = [&](const WalkCounters& sum, const std::array<std::uint64_t, 3>& counts,
+                       bool bounded) {
+      std::lock_guard<std::mutex> lock(totalsMutex);
+      summary.Totals.Add(sum);
+      for (int k = 0; k < 3; ++k)
+      {
+        summary.StatusCounts[k] += counts[k];
+      }
+      summary.UnboundedSource = summary.UnboundedSource || !bounded;
+    };
+
+    if (walkLevel)
+    {
+      summary.Completed = this->EstimateByBlocks(points, request, sink, kept, startPoint,
+        startWalks, keepAt, blockWalks, blocksPerPoint, sampleSize, walksDone, report, addTotals);
+    }
+    else
+    {
+      summary.Completed = ParallelForWithProgress(
+        numPoints, request.Threads,
+        [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
+          auto volume = this->MakeVolume();
+          WalkCounters sum;
+          std::array<std::uint64_t, 3> counts = { 0, 0, 0 };
+          auto runPoints = [&](auto& estimator) {
+            RunningStatistics stats(sampleSize);
+            for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
+            {
+              WalkCounters counters;
+              unsigned char keptStatus = 0;
+              startPoint(i, stats, counters, keptStatus);
+              auto status = static_cast<DerivativeStatus>(keptStatus);
+              const int firstLeg = std::max(keepAt, startWalks);
+              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks,
+                    std::min(firstLeg, walks), stats, counters, cancel, walksDone, status))
+              {
+                return; // aborted: the point never reaches the sink
+              }
+              if (kept && keepAt >= startWalks)
+              {
+                kept->Save(i, stats, counters, static_cast<unsigned char>(status));
+              }
+              if (!EstimateInChunks(estimator, points[i].data(), seed, std::min(firstLeg, walks),
+                    walks, stats, counters, cancel, walksDone, status))
+              {
+                return;
+              }
+              if (derivativeWalks)
+              {
+                counts[static_cast<int>(status)] += 1;
+              }
+              sum.Add(counters);
+              sink(i, stats, counters, status);
+            }
+          };
+          bool bounded = true;
+          if (derivativeWalks)
+          {
+            DerivativeWalkOnSpheres<DIM> estimator(
+              *this->Shape, this->Walk, request.Derivatives, volume.get(), this->Concentrated());
+            runPoints(estimator);
+            bounded = estimator.SourceSupportIsBounded();
+          }
+          else
+          {
+            WalkOnSpheresEstimator<DIM> estimator(
+              *this->Shape, this->Walk, volume.get(), this->Concentrated());
+            runPoints(estimator);
+            bounded = estimator.SourceSupportIsBounded();
+          }
+          addTotals(sum, counts, bounded);
+        },
+        report);
+    }
+    summary.WalksRun = walksDone.load();
+    summary.Seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Kept sums are whole only after a complete batch.
+    if (kept)
+    {
+      if (summary.Completed && keepAt > 0)
+      {
+        kept->SetKeptWalks(static_cast<std::uint64_t>(keepAt));
+      }
+      else
+      {
+        kept->Clear();
+      }
+    }
+    return summary;
+  }
+
+  // Estimate, with every point's means and variances collected.
+  BatchEstimates EstimateAll(const std::vector<std::array<double, 3>>& points,
+    const BatchRequest& request,
+    const BatchProgressCallback& progress = BatchProgressCallback(),
+    RunningSumsCache* kept = nullptr) const
+  {
+    BatchEstimates out;
+    out.Points = points.size();
+    const std::size_t size = static_cast<std::size_t>(this->Layout(request).Size);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.Means.assign(out.Points * size, nan);
+    out.Variances.assign(out.Points * size, nan);
+    out.Counters.assign(out.Points, WalkCounters());
+    out.Status.assign(out.Points, DerivativeStatus::Unavailable);
+    out.Finished.assign(out.Points, 0);
+    out.Summary = this->Estimate(points, request,
+      [&out, size](std::size_t i, const RunningStatistics& stats, const WalkCounters& counters,
+        DerivativeStatus status) {
+        for (std::size_t s = 0; s < size; ++s)
+        {
+          out.Means[i * size + s] = stats.GetMean(static_cast<int>(s));
+          out.Variances[i * size + s] = stats.VarianceOfMean(static_cast<int>(s));
+        }
+        out.Counters[i] = counters;
+        out.Status[i] = status;
+        out.Finished[i] = 1;
+      },
+      progress, kept);
+    return out;
+  }
+
+private:
+  std::unique_ptr<VolumeSource<DIM>> MakeVolume() const
+  {
+    return this->Sources && this->Sources->MakeVolume
+      ? this->Sources->MakeVolume(this->Shape->Diagonal())
+      : nullptr;
+  }
+
+  ConcentratedSourceSet<DIM> Concentrated() const
+  {
+    return this->Sources ? this->Sources->Concentrated() : ConcentratedSourceSet<DIM>();
+  }
+
+  // Runs walks number `from` to `to` - 1 of one point into stats/counters in
+  // chunks of kChunkWalks, adding each finished chunk to `done` and stopping
+  // between chunks when `cancel` is set. Returns false if they were not all
+  // run; `status` receives the derivative estimator's status (unchanged for
+  // the plain one). `from` must be a multiple of the estimator's control
+  // block.
+  template <class Estimator>
+  static bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed,
+    int from, int to, RunningStatistics& stats, WalkCounters& counters,
+    const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, DerivativeStatus& status)
+  {
+    for (int first = from; first < to; first += kChunkWalks)
+    {
+      if (first > from && cancel.load(std::memory_order_relaxed))
+      {
+        return false;
+      }
+      const int count = std::min(kChunkWalks, to - first);
+      using Result = decltype(estimator.EstimatePoint(
+        xyz, seed, std::uint64_t(0), count, stats, counters));
+      if constexpr (std::is_void_v<Result>)
+      {
+        estimator.EstimatePoint(xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
+      }
+      else
+      {
+        status = estimator.EstimatePoint(
+          xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
+      }
+      done.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
+    }
+    return true;
+  }
+
+  // Few points, several threads: each point's walks in blocks spread over
+  // the threads, each block recorded and then replayed in walk order, so the
+  // numbers are bit for bit those of one thread. Blocks of the derivative
+  // estimator are its control blocks, whose control variates only use the
+  // walks before them in the same block.
+  template <class StartPoint, class Report, class AddTotals>
+  bool EstimateByBlocks(const std::vector<std::array<double, 3>>& points,
+    const BatchRequest& request, const PointSink& sink, RunningSumsCache* kept,
+    const StartPoint& startPoint, int startWalks, int keepAt, int blockWalks,
+    std::size_t blocksPerPoint, int sampleSize, std::atomic<std::uint64_t>& walksDone,
+    const Report& report, const AddTotals& addTotals) const
+  {
+    const bool derivativeWalks = request.DerivativeWalks();
+    const int walks = request.WalksPerPoint;
+    const std::size_t numPoints = points.size();
+    const std::size_t items = numPoints * blocksPerPoint;
+    std::vector<SampleRecorder> recorders(items, SampleRecorder(sampleSize));
+    std::vector<WalkCounters> blockCounters(items);
+    std::vector<char> blockDone(items, 0);
+    std::vector<DerivativeStatus> pointStatus(numPoints, DerivativeStatus::Interior);
+    std::atomic<bool> unbounded{ false };
+    const bool completed = ParallelForWithProgress(
+      items, request.Threads,
+      [&](std::size_t begin, std::size_t end, const std::atomic<bool>& cancel) {
+        auto volume = this->MakeVolume();
+        auto runBlocks = [&](auto& estimator) {
+          for (std::size_t item = begin; item < end && !cancel.load(std::memory_order_relaxed);
+               ++item)
+          {
+            const std::size_t i = item / blocksPerPoint;
+            const int first = startWalks + static_cast<int>(item % blocksPerPoint) * blockWalks;
+            const int count = std::min(blockWalks, walks - first);
+            recorders[item].Reserve(static_cast<std::size_t>(count));
+            using Result = decltype(estimator.EstimatePoint(points[i].data(), request.Seed,
+              std::uint64_t(0), count, recorders[item], blockCounters[item]));
+            if constexpr (std::is_void_v<Result>)
+            {
+              estimator.EstimatePoint(points[i].data(), request.Seed,
+                static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
+            }
+            else
+            {
+              // The status is the same for every block of a point.
+              pointStatus[i] = estimator.EstimatePoint(points[i].data(), request.Seed,
+                static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
+            }
+            blockDone[item] = 1;
+            walksDone.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
+          }
+          if (!estimator.SourceSupportIsBounded())
+          {
+            unbounded = true;
+          }
+        };
+        if (derivativeWalks)
+        {
+          DerivativeWalkOnSpheres<DIM> estimator(
+            *this->Shape, this->Walk, request.Derivatives, volume.get(), this->Concentrated());
+          runBlocks(estimator);
+        }
+        else
+        {
+          WalkOnSpheresEstimator<DIM> estimator(
+            *this->Shape, this->Walk, volume.get(), this->Concentrated());
+          runBlocks(estimator);
+        }
+      },
+      report, 0.1, 1);
+
+    RunningStatistics stats(sampleSize);
+    WalkCounters sum;
+    std::array<std::uint64_t, 3> counts = { 0, 0, 0 };
+    for (std::size_t i = 0; i < numPoints; ++i)
+    {
+      const std::size_t firstItem = i * blocksPerPoint;
+      bool reached = true;
+      for (std::size_t b = 0; b < blocksPerPoint; ++b)
+      {
+        reached = reached && blockDone[firstItem + b];
+      }
+      if (!reached)
+      {
+        continue; // aborted: the point never reaches the sink
+      }
+      WalkCounters counters;
+      unsigned char keptStatus = 0;
+      startPoint(i, stats, counters, keptStatus);
+      const DerivativeStatus status =
+        derivativeWalks ? pointStatus[i] : static_cast<DerivativeStatus>(keptStatus);
+      int walksSoFar = startWalks;
+      for (std::size_t b = 0; b < blocksPerPoint; ++b)
+      {
+        if (kept && walksSoFar == keepAt)
+        {
+          kept->Save(i, stats, counters, static_cast<unsigned char>(pointStatus[i]));
+        }
+        recorders[firstItem + b].ReplayInto(stats);
+        counters.Add(blockCounters[firstItem + b]);
+        walksSoFar += static_cast<int>(recorders[firstItem + b].SampleCount());
+      }
+      if (kept && walksSoFar == keepAt)
+      {
+        kept->Save(i, stats, counters, static_cast<unsigned char>(pointStatus[i]));
+      }
+      if (derivativeWalks)
+      {
+        counts[static_cast<int>(status)] += 1;
+      }
+      sum.Add(counters);
+      sink(i, stats, counters, status);
+    }
+    addTotals(sum, counts, !unbounded.load());
+    return completed;
+  }
+
+  std::shared_ptr<const Boundary<DIM>> Shape;
+  WalkSettings Walk;
+  std::shared_ptr<const SourceSet<DIM>> Sources;
+};
+} // namespace gridfree
+
+#endif

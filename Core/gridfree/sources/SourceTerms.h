@@ -1,0 +1,206 @@
+// Source terms f of Δu − c·u = f and the one-step estimate of their
+// contribution ∫_B f(y) G(x, y) dy over a walk's ball (paper Sec. 2.3, 2.4
+// and 4.2; FORMULAS.md §2, §3 and §6 for signs, weights and samplers).
+//
+// f is the sum of
+// - a volume source (a sampled dataset or an expression), evaluated through a
+//   per-thread VolumeSource object, with the sampling strategies of paper
+//   Sec. 4.2.1 / Fig. 7: uniform in the ball, proportional to G, or both
+//   combined by the balance heuristic (multiple importance sampling);
+// - point sources s·δ_z, each adding s·G(x, z) when z lies in the ball
+//   (Sec. 4.2.2: the ball's share of a delta is sampled exactly);
+// - curve sources s·δ_γ, adding L·s(z)·G(x, z) for one point z drawn
+//   uniformly on the length-L part of γ inside the ball (Sec. 4.2.2).
+#ifndef GRIDFREE_SOURCES_SOURCE_TERMS_H
+#define GRIDFREE_SOURCES_SOURCE_TERMS_H
+
+#include <gridfree/sampling/BallSampling.h>
+#include <gridfree/sources/ConcentratedSources.h>
+#include <gridfree/sampling/Random.h>
+#include <gridfree/math/Vector.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gridfree
+{
+// How the volume term ∫_B f G is sampled.
+enum class SourceSampling
+{
+  Uniform,           // y ~ U(B): weight |B| G(x, y)
+  GreensFunction,    // y ~ G / ∫G: weight ∫G (App. B samplers)
+  MultipleImportance // one sample of each, balance heuristic (Veach & Guibas 1995)
+};
+
+// A volume source f(y) with a fixed number of components. Evaluate may use
+// scratch memory, so every thread owns its own object.
+template <int DIM>
+class VolumeSource
+{
+public:
+  virtual ~VolumeSource() = default;
+  // Writes f(y), Components() numbers, into f.
+  virtual void Evaluate(const Vec<DIM>& y, double* f) = 0;
+  // The box outside which f vanishes; false when f has unbounded support.
+  virtual bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const = 0;
+
+  // Writes f(y) (components numbers) and ∇f(y) (components × DIM numbers,
+  // gradient[c·DIM + i] = ∂f_c/∂y_i). The Hessian's source term needs ∇f
+  // (paper Sec. 3.3, integration-by-parts form). This default differentiates
+  // Evaluate by central differences with step DifferenceStep (relative to
+  // max(1, |y|∞) when no step was set); sources that know their derivative
+  // exactly (interpolated data) override it.
+  virtual void EvaluateGradient(const Vec<DIM>& y, int components, double* f, double* gradient)
+  {
+    const double scale = std::max(1.0, y.cwiseAbs().maxCoeff());
+    const double h = this->DifferenceStep > 0.0 ? this->DifferenceStep : 1e-5 * scale;
+    // Thread-local scratch: a stateless source may be shared by threads.
+    thread_local std::vector<double> scratch;
+    scratch.resize(2 * static_cast<std::size_t>(components));
+    double* plus = scratch.data();
+    double* minus = plus + components;
+    this->Evaluate(y, f);
+    for (int i = 0; i < DIM; ++i)
+    {
+      Vec<DIM> step = Vec<DIM>::Zero();
+      step[i] = h;
+      this->Evaluate(y + step, plus);
+      this->Evaluate(y - step, minus);
+      for (int c = 0; c < components; ++c)
+      {
+        gradient[c * DIM + i] = (plus[c] - minus[c]) / (2.0 * h);
+      }
+    }
+  }
+
+  // Step of the default EvaluateGradient; 0 chooses 1e-5·max(1, |y|∞).
+  void SetDifferenceStep(double h) { this->DifferenceStep = h; }
+
+private:
+  double DifferenceStep = 0.0;
+};
+
+// The concentrated sources, shared read-only by all threads.
+template <int DIM>
+struct ConcentratedSourceSet
+{
+  const PointSources<DIM>* Points = nullptr;
+  const CurveSources<DIM>* Curves = nullptr;
+
+  bool Empty() const
+  {
+    return (!this->Points || this->Points->Empty()) && (!this->Curves || this->Curves->Empty());
+  }
+};
+
+// One thread's evaluator of the source contribution over a ball.
+template <int DIM>
+class SourceIntegrator
+{
+public:
+  SourceIntegrator(int components, SourceSampling sampling, VolumeSource<DIM>* volume,
+    const ConcentratedSourceSet<DIM>& concentrated)
+    : Components(components)
+    , Sampling(sampling)
+    , Volume(volume)
+    , Concentrated(concentrated)
+    , F(components)
+    , Strength(components)
+  {
+  }
+
+  bool Active() const { return this->Volume || !this->Concentrated.Empty(); }
+
+  // Adds an unbiased one-sample estimate of ∫_{B(x,R)} f(y) G(x, y) dy to
+  // integral (Components() numbers). `green` is the ball's Green's function
+  // object (harmonic or Yukawa; see GreensFunctions.h).
+  template <class Green>
+  void Accumulate(const Vec<DIM>& x, const Green& green, RandomStream& rng, double* integral)
+  {
+    const double radius = green.Radius();
+    if (this->Volume)
+    {
+      const double volume = UnitBallVolume<DIM>() * std::pow(radius, DIM);
+      switch (this->Sampling)
+      {
+        case SourceSampling::Uniform:
+        {
+          const Vec<DIM> d = radius * SampleUnitBall<DIM>(rng);
+          this->AddVolumeSample(x + d, volume * green.Value(d.norm()), integral);
+          break;
+        }
+        case SourceSampling::GreensFunction:
+        {
+          const Vec<DIM> d = green.SampleOffset(rng);
+          this->AddVolumeSample(x + d, green.Integral(), integral);
+          break;
+        }
+        case SourceSampling::MultipleImportance:
+        {
+          // Balance heuristic with one sample per strategy: each sample y
+          // weighs f(y) G / (p_U + p_G) = f(y) / (1/(|B| G) + 1/∫G), a form
+          // that stays finite where G is infinite (y = x).
+          const double integralG = green.Integral();
+          const Vec<DIM> du = radius * SampleUnitBall<DIM>(rng);
+          this->AddVolumeSample(
+            x + du, 1.0 / (1.0 / (volume * green.Value(du.norm())) + 1.0 / integralG), integral);
+          const Vec<DIM> dg = green.SampleOffset(rng);
+          this->AddVolumeSample(
+            x + dg, 1.0 / (1.0 / (volume * green.Value(dg.norm())) + 1.0 / integralG), integral);
+          break;
+        }
+      }
+    }
+    const int nc = this->Components;
+    if (this->Concentrated.Points && !this->Concentrated.Points->Empty())
+    {
+      this->Concentrated.Points->ForEachInBall(x, radius, [&](const Vec<DIM>& z, const double* s) {
+        const double g = green.Value((z - x).norm());
+        for (int c = 0; c < nc; ++c)
+        {
+          integral[c] += g * s[c];
+        }
+      });
+    }
+    if (this->Concentrated.Curves && !this->Concentrated.Curves->Empty())
+    {
+      Vec<DIM> z;
+      double length = 0.0;
+      if (this->Concentrated.Curves->SampleInBall(
+            x, radius, rng, this->CurveScratch, z, this->Strength.data(), length))
+      {
+        const double g = length * green.Value((z - x).norm());
+        for (int c = 0; c < nc; ++c)
+        {
+          integral[c] += g * this->Strength[c];
+        }
+      }
+    }
+  }
+
+private:
+  void AddVolumeSample(const Vec<DIM>& y, double weight, double* integral)
+  {
+    if (!(weight > 0.0) || !std::isfinite(weight))
+    {
+      return; // G = 0 on the sphere; a zero-weight sample adds nothing
+    }
+    this->Volume->Evaluate(y, this->F.data());
+    for (int c = 0; c < this->Components; ++c)
+    {
+      integral[c] += weight * this->F[c];
+    }
+  }
+
+  int Components;
+  SourceSampling Sampling;
+  VolumeSource<DIM>* Volume;
+  ConcentratedSourceSet<DIM> Concentrated;
+  typename CurveSources<DIM>::Scratch CurveScratch;
+  std::vector<double> F;
+  std::vector<double> Strength;
+};
+} // namespace gridfree
+
+#endif

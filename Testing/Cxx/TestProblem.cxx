@@ -1,0 +1,217 @@
+// Tests of gridfree/problem/Problem.h: a problem built once answers batches
+// of points, calibrated, with the same bits for any thread count and either
+// schedule (points over threads, or one point's walks over threads),
+// resumably, and stops when its progress callback says so.
+#include <gridfree/problem/Problem.h>
+#include "EstimatorChecks.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+
+namespace
+{
+const Field<3> Saddle = [](const Vec3& x) { return x[0] * x[0] - x[1] * x[1]; };
+const Field<2> Saddle2 = [](const Vec2& x) { return x[0] * x[0] - x[1] * x[1]; };
+
+std::shared_ptr<const Boundary<3>> SphereBoundary()
+{
+  static const auto boundary =
+    std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(4), { Saddle }));
+  return boundary;
+}
+
+template <int DIM>
+std::vector<std::array<double, 3>> AsProbe(const std::vector<Vec<DIM>>& points)
+{
+  std::vector<std::array<double, 3>> probe;
+  for (const Vec<DIM>& p : points)
+  {
+    std::array<double, 3> xyz = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < DIM; ++k)
+    {
+      xyz[k] = p[k];
+    }
+    probe.push_back(xyz);
+  }
+  return probe;
+}
+
+WalkSettings Laplace(double epsilon)
+{
+  WalkSettings settings;
+  settings.Epsilon = epsilon;
+  return settings;
+}
+
+// Bitwise equality of two batches' numbers.
+void ExpectSameBits(const BatchEstimates& a, const BatchEstimates& b)
+{
+  ASSERT_EQ(a.Means.size(), b.Means.size());
+  EXPECT_EQ(0, std::memcmp(a.Means.data(), b.Means.data(), a.Means.size() * sizeof(double)));
+  EXPECT_EQ(
+    0, std::memcmp(a.Variances.data(), b.Variances.data(), a.Variances.size() * sizeof(double)));
+  for (std::size_t i = 0; i < a.Points; ++i)
+  {
+    EXPECT_EQ(a.Counters[i].Steps, b.Counters[i].Steps);
+  }
+}
+} // namespace
+
+TEST(Problem, BatchIsCalibratedIn3D)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-4));
+  const auto points = RandomPointsInBall<3>(500, 0.85, 11);
+  BatchRequest request;
+  request.WalksPerPoint = 512;
+  request.Seed = 3;
+  const BatchEstimates estimates = problem.EstimateAll(AsProbe<3>(points), request);
+  ASSERT_TRUE(estimates.Summary.Completed);
+  EXPECT_EQ(estimates.Summary.WalksRun, 500u * 512u);
+  EXPECT_EQ(estimates.Summary.Totals.Walks, 500u * 512u);
+  Calibration c;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    ASSERT_TRUE(estimates.Finished[i]);
+    const double z =
+      (estimates.Value(i) - Saddle(points[i])) / std::sqrt(estimates.ValueVariance(i));
+    c.MeanZ2 += z * z;
+    c.MaxAbsZ = std::max(c.MaxAbsZ, std::abs(z));
+    ++c.Points;
+  }
+  c.MeanZ2 /= c.Points;
+  ExpectCalibrated(c);
+}
+
+TEST(Problem, GradientBatchIsCalibratedIn2D)
+{
+  const auto boundary =
+    std::make_shared<const Boundary<2>>(MakeBoundary<2>(MakeCircle(512), { Saddle2 }));
+  const Problem<2> problem(boundary, Laplace(1e-4));
+  const auto points = RandomPointsInBall<2>(500, 0.8, 12);
+  BatchRequest request;
+  request.WalksPerPoint = 512;
+  request.Derivatives.Gradient = true;
+  request.Derivatives.ControlVariates = true;
+  const BatchEstimates estimates = problem.EstimateAll(AsProbe<2>(points), request);
+  const SampleLayout& layout = estimates.Summary.Layout;
+  ASSERT_GE(layout.Gradient, 0);
+  Calibration c;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const Vec2 exact(2.0 * points[i][0], -2.0 * points[i][1]);
+    for (int a = 0; a < 2; ++a)
+    {
+      const double z = (estimates.Mean(i, layout.Gradient + a) - exact[a]) /
+        std::sqrt(estimates.Variance(i, layout.Gradient + a));
+      c.MeanZ2 += z * z;
+      c.MaxAbsZ = std::max(c.MaxAbsZ, std::abs(z));
+      ++c.Points;
+    }
+  }
+  c.MeanZ2 /= c.Points;
+  ExpectCalibrated(c, 1000);
+  EXPECT_EQ(estimates.Summary.StatusCounts[0], 500u);
+}
+
+TEST(Problem, SameBitsForAnyThreadCountAndSchedule)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  const auto many = AsProbe<3>(RandomPointsInBall<3>(40, 0.8, 13));
+  const std::vector<std::array<double, 3>> one(many.begin(), many.begin() + 1);
+  for (bool derivatives : { false, true })
+  {
+    BatchRequest request;
+    request.WalksPerPoint = 700; // not a multiple of any block
+    request.Derivatives.Gradient = derivatives;
+    request.Threads = 1;
+    const BatchEstimates serialMany = problem.EstimateAll(many, request);
+    const BatchEstimates serialOne = problem.EstimateAll(one, request);
+    request.Threads = 2;
+    // 40 points: points over threads; 1 point: its walks in blocks over threads.
+    ExpectSameBits(serialMany, problem.EstimateAll(many, request));
+    ExpectSameBits(serialOne, problem.EstimateAll(one, request));
+    // A point's numbers do not depend on the batch it is in.
+    EXPECT_EQ(serialOne.Value(0), serialMany.Value(0));
+  }
+}
+
+TEST(Problem, ResumedBatchEqualsOneBatch)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  for (std::size_t count : { std::size_t(1), std::size_t(30) })
+  {
+    const auto points = AsProbe<3>(RandomPointsInBall<3>(static_cast<int>(count), 0.8, 14));
+    for (bool derivatives : { false, true })
+    {
+      BatchRequest request;
+      request.Derivatives.Gradient = derivatives;
+      request.WalksPerPoint = 600;
+      const BatchEstimates whole = problem.EstimateAll(points, request);
+
+      RunningSumsCache kept;
+      request.WalksPerPoint = 300;
+      problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+      request.WalksPerPoint = 600;
+      const BatchEstimates resumed =
+        problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+      // The derivative estimator resumes at its last control block (256).
+      EXPECT_EQ(resumed.Summary.ResumedWalksPerPoint, derivatives ? 256 : 300);
+      EXPECT_EQ(resumed.Summary.WalksRun, count * (derivatives ? 344u : 300u));
+      ExpectSameBits(whole, resumed);
+    }
+  }
+}
+
+TEST(Problem, ProgressCallbackAborts)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-4));
+  const auto points = AsProbe<3>(RandomPointsInBall<3>(2000, 0.8, 15));
+  BatchRequest request;
+  request.WalksPerPoint = 100000;
+  int calls = 0;
+  RunningSumsCache kept;
+  const BatchEstimates estimates = problem.EstimateAll(points, request,
+    [&calls](const BatchProgress& p) {
+      EXPECT_GE(p.Fraction, 0.0);
+      EXPECT_LE(p.Fraction, 1.0);
+      return ++calls < 2;
+    },
+    &kept);
+  EXPECT_FALSE(estimates.Summary.Completed);
+  EXPECT_EQ(calls, 2);
+  std::size_t finished = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    finished += estimates.Finished[i];
+    if (!estimates.Finished[i])
+    {
+      EXPECT_TRUE(std::isnan(estimates.Value(i)));
+    }
+  }
+  EXPECT_LT(finished, points.size());
+  EXPECT_LT(estimates.Summary.WalksRun, points.size() * 100000u);
+  // An aborted batch keeps nothing to resume from.
+  EXPECT_EQ(kept.KeptWalks(), 0u);
+}
+
+TEST(Problem, RefusesProblemsNoWalkCanSolve)
+{
+  EXPECT_THROW(Problem<3>(nullptr, Laplace(1e-3)), std::invalid_argument);
+  EXPECT_THROW(Problem<3>(std::make_shared<const Boundary<3>>(), Laplace(1e-3)),
+    std::invalid_argument);
+  EXPECT_THROW(Problem<3>(SphereBoundary(), Laplace(0.0)), std::invalid_argument);
+  WalkSettings screened = Laplace(1e-3);
+  screened.Problem = Equation::ScreenedPoisson;
+  EXPECT_THROW(Problem<3>(SphereBoundary(), screened), std::invalid_argument);
+  WalkSettings biharmonic = Laplace(1e-3);
+  biharmonic.Problem = Equation::Biharmonic; // one component, not g and h
+  EXPECT_THROW(Problem<3>(SphereBoundary(), biharmonic), std::invalid_argument);
+}

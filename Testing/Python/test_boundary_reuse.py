@@ -1,0 +1,134 @@
+"""The solver builds the boundary (conversion, hierarchy, distance bounds,
+values) once and reuses it while nothing that shapes it changes: moving the
+probe, changing the walks, the seed or Epsilon, or refining reuses it, with
+the numbers of a fresh solver; new boundary data, another value array, an
+expression, the equation's g-and-h layout or an edited implicit function
+rebuild it."""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
+from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
+
+from gridfree_testing import add_point_array, sphere_boundary  # noqa: E402
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+Solver = gridfree.vtkWalkOnSpheresSolver
+
+
+def plane(z):
+    source = vtkPlaneSource()
+    source.SetOrigin(-0.5, -0.5, z)
+    source.SetPoint1(0.5, -0.5, z)
+    source.SetPoint2(-0.5, 0.5, z)
+    source.SetResolution(5, 5)
+    return source
+
+
+def solver_for(boundary, probe, **settings):
+    solver = Solver()
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeConnection(probe.GetOutputPort())
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetWalksPerPoint(32)
+    solver.SetEpsilon(1e-3)
+    for name, value in settings.items():
+        getattr(solver, "Set" + name)(value)
+    return solver
+
+
+def point_arrays(solver):
+    pd = solver.GetOutput().GetPointData()
+    return {pd.GetArrayName(k): [pd.GetArray(k).GetTuple(i)
+                                 for i in range(pd.GetArray(k).GetNumberOfTuples())]
+            for k in range(pd.GetNumberOfArrays())}
+
+
+def updated(solver):
+    solver.Update()
+    return solver.GetLastBoundaryBuilt()
+
+
+def test_moving_the_probe_and_sampling_changes_reuse_the_boundary():
+    boundary = sphere_boundary(resolution=32)
+    probe = plane(0.0)
+    solver = solver_for(boundary, probe, ComputeGradient=True)
+    assert updated(solver)
+    # A dragged slice: same numbers as a fresh solver at the new place.
+    probe.SetOrigin(-0.5, -0.5, 0.3)
+    probe.SetPoint1(0.5, -0.5, 0.3)
+    probe.SetPoint2(-0.5, 0.5, 0.3)
+    assert not updated(solver)
+    fresh = solver_for(boundary, plane(0.3), ComputeGradient=True)
+    assert updated(fresh)
+    assert point_arrays(solver) == point_arrays(fresh)
+    for change in (lambda: solver.SetWalksPerPoint(300), solver.Refine,
+                   lambda: solver.SetSeed(9), lambda: solver.SetEpsilon(2e-3),
+                   lambda: solver.SetNumberOfThreads(1),
+                   lambda: solver.SetComputeHessian(True)):
+        change()
+        assert not updated(solver)
+    # A shallow copy of the same data (ParaView hands filters these) is the
+    # same boundary.
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    copy = vtkPolyData()
+    copy.ShallowCopy(boundary)
+    solver.SetBoundaryData(copy)
+    assert not updated(solver)
+
+
+def test_what_shapes_the_boundary_rebuilds_it():
+    boundary = sphere_boundary(resolution=24)
+    add_point_array(boundary, "U", lambda x, y, z: x + 2.0 * y)
+    probe = plane(0.1)
+    solver = solver_for(boundary, probe)
+    assert updated(solver)
+    # Another value array.
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "U")
+    assert updated(solver)
+    fresh = solver_for(boundary, plane(0.1))
+    fresh.SetInputArrayToProcess(0, 0, 0, POINTS, "U")
+    fresh.Update()
+    assert point_arrays(solver) == point_arrays(fresh)
+    # Edited values.
+    values = boundary.GetPointData().GetArray("U")
+    values.SetValue(0, values.GetValue(0) + 1.0)
+    values.Modified()
+    assert updated(solver)
+    # Moved vertices.
+    boundary.GetPoints().SetPoint(0, 1.01, 0.0, 0.0)
+    boundary.GetPoints().Modified()
+    assert updated(solver)
+    # Values from an expression, then another expression.
+    solver.SetBoundaryValueExpression("x*y")
+    assert updated(solver)
+    solver.SetWalksPerPoint(40)
+    assert not updated(solver)
+    solver.SetBoundaryValueExpression("x*y + 1")
+    assert updated(solver)
+    # The biharmonic equation stores g and h together.
+    solver.SetBoundaryValueExpression("")
+    solver.SetEquation(Solver.BIHARMONIC)
+    solver.SetInputArrayToProcess(1, 0, 0, POINTS, "T")
+    assert updated(solver)
+    solver.SetEquation(Solver.LAPLACE)
+    assert updated(solver)
+
+
+def test_an_edited_implicit_boundary_is_rebuilt():
+    sphere = gridfree.vtkSignedDistanceSphere()
+    sphere.SetRadius(1.0)
+    solver = Solver()
+    solver.SetImplicitBoundary(sphere)
+    solver.SetBoundaryValueExpression("x")
+    probe = plane(0.0)
+    solver.SetProbeConnection(probe.GetOutputPort())
+    solver.SetWalksPerPoint(16)
+    assert updated(solver)
+    solver.SetWalksPerPoint(32)
+    assert not updated(solver)
+    sphere.SetRadius(1.2)
+    assert updated(solver)
