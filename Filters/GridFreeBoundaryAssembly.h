@@ -1,0 +1,35 @@
+// The core boundary of a solve from what vtkWalkOnSpheresSolver resolved
+// from its inputs: a mesh with its value table, a mesh with values from
+// expressions, an implicit surface with values from expressions or sampled
+// from a mesh, or a CSG of meshes and an implicit surface (paper Sec.
+// 5.1.3–5.1.4). Reports dropped cells and a too small Lipschitz bound as
+// warnings, and what makes the inputs unusable as an error, of `reporter`.
+// Private to the GridFree::Filters module.
+#ifndef GridFreeBoundaryAssembly_h
+#define GridFreeBoundaryAssembly_h
+
+#include <gridfree/boundary/Boundary.h>
+
+class vtkObject;
+struct vtkWalkOnSpheresSolverInputs;
+
+namespace gridfree
+{
+// Builds `geometry` (values, hierarchy, bound grid; two-sided if asked);
+// false after an error message.
+template <int DIM>
+bool AssembleBoundary(vtkObject* reporter, const vtkWalkOnSpheresSolverInputs& in,
+  Boundary<DIM>& geometry);
+
+// The plane of a 2D problem (the boundary's z), where expressions and
+// sources are sampled; 0 for a 3D one.
+template <int DIM>
+double ProblemPlaneZ(const vtkWalkOnSpheresSolverInputs& in);
+
+extern template bool AssembleBoundary<2>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<2>&);
+extern template bool AssembleBoundary<3>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<3>&);
+extern template double ProblemPlaneZ<2>(const vtkWalkOnSpheresSolverInputs&);
+extern template double ProblemPlaneZ<3>(const vtkWalkOnSpheresSolverInputs&);
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,46 @@
+// What vtkWalkOnSpheresSolver::RequestData resolved from its inputs and
+// properties, handed to the boundary assembly and the runner.
+// Private to the GridFree::Filters module.
+#ifndef GridFreeSolverInputs_h
+#define GridFreeSolverInputs_h
+
+#include "GridFreeCsgBoundary.h"
+#include "vtkSmartPointer.h"
+#include "vtkWalkOnSpheresSolver.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+class vtkDataArray;
+class vtkDataSet;
+class vtkImplicitFunction;
+class vtkPolyData;
+
+struct vtkWalkOnSpheresSolverInputs
+{
+  vtkPolyData* Boundary = nullptr; // the mesh, or the value carrier of an implicit boundary
+  vtkImplicitFunction* Implicit = nullptr;
+  // CSG: the blocks as operands (with their values unless expressions give
+  // them), combined with Implicit, if set, as the last operand.
+  std::vector<gridfree::CsgMeshOperand> CsgOperands;
+  int CsgOperation = vtkWalkOnSpheresSolver::CSG_NONE;
+  double CsgBlendRadius = 0.0;
+  double LipschitzBound = 1.0; // of an implicit function not known to be a distance
+  std::vector<vtkSmartPointer<vtkDataArray>> CsgValues; // keeps the operands' values alive
+  std::vector<std::string> ValueExpressions; // g (and h), replacing Values when set
+  vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
+  bool CellData = false;
+  bool TwoSided = false; // Values holds the front's then the back's g
+
+  vtkDataSet* Source = nullptr;
+  vtkDataArray* SourceArray = nullptr;
+  std::string Expression;
+  vtkDataSet* Probe = nullptr;
+  vtkDataSet* Output = nullptr;
+  std::string Name;
+  // What the core boundary is built from (vtkWalkOnSpheresSolverCache).
+  std::vector<std::uint64_t> BoundaryKey;
+};
+
+#endif
