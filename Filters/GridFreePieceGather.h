@@ -51,4 +51,14 @@ bool GatherPieces(vtkMultiProcessController* controller, vtkDataObject* piece,
   GatheredPieces& out, std::string& reason);
 } // namespace gridfree
 
+// The Boundary and Source inputs a solve uses (vtkWalkOnSpheresSolver's
+// GatherInputs): as received (Whole set to them, no signature), or, in a
+// distributed run (vtkPWalkOnSpheresSolver), every rank's pieces merged.
+struct vtkWalkOnSpheresSolverPieces
+{
+  bool Distributed = false; // this rank solves its piece of a distributed probe
+  gridfree::GatheredPieces Boundary;
+  gridfree::GatheredPieces Source;
+};
+
 #endif

@@ -147,9 +147,6 @@ int vtkWalkOnSpheresProbeAlgorithm::RequestUpdateExtent(
 
 void vtkWalkOnSpheresProbeAlgorithm::ConfigureSolver(vtkWalkOnSpheresSolver* solver)
 {
-  // An internal solver works on this filter's whole inputs, on this rank
-  // alone: it must not join the ranks' collective gather.
-  solver->SetController(nullptr);
   solver->SetWalksPerPoint(this->WalksPerPoint);
   solver->SetEpsilon(this->Epsilon);
   solver->SetEpsilonIsRelative(this->EpsilonIsRelative);

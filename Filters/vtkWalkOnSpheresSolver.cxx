@@ -36,7 +36,6 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkMatrix3x3.h"
-#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -443,7 +442,6 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
-  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
 //------------------------------------------------------------------------------
@@ -481,15 +479,21 @@ vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
   this->SetBoundaryValueExpression(nullptr);
   this->SetBoundaryLaplacianExpression(nullptr);
   this->SetImplicitBoundary(nullptr);
-  this->SetController(nullptr);
 }
 
 vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, ImplicitBoundary, vtkImplicitFunction);
-vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, Controller, vtkMultiProcessController);
-
-bool vtkWalkOnSpheresSolver::GathersPieces() const
+bool vtkWalkOnSpheresSolver::GatherInputs(
+  vtkDataObject* boundary, vtkDataObject* source, vtkWalkOnSpheresSolverPieces& pieces)
 {
-  return this->Controller && this->Controller->GetNumberOfProcesses() > 1;
+  pieces.Distributed = false;
+  pieces.Boundary.Whole = boundary;
+  pieces.Source.Whole = source;
+  return true;
+}
+
+void vtkWalkOnSpheresSolver::RequestSharedInput(vtkInformation* info)
+{
+  gridfree::RequestWholeInput(info);
 }
 
 // Editing the implicit function (a ParaView widget) must re-execute the solver.
@@ -620,16 +624,7 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
   vtkInformation* probeInfo = inputVector[ProbePort]->GetInformationObject(0);
   for (int port : { BoundaryPort, SourcePort })
   {
-    vtkInformation* info = inputVector[port]->GetInformationObject(0);
-    if (this->GathersPieces())
-    {
-      gridfree::RequestPiece(info, this->Controller->GetLocalProcessId(),
-        this->Controller->GetNumberOfProcesses());
-    }
-    else
-    {
-      gridfree::RequestWholeInput(info);
-    }
+    this->RequestSharedInput(inputVector[port]->GetInformationObject(0));
   }
   if (probeInfo)
   {
@@ -761,38 +756,13 @@ int vtkWalkOnSpheresSolver::RequestData(
   vtkDataObject* const sourcePiece = sourceObject;
   // A distributed run gathers the boundary and source first, before anything
   // can return early: every rank must take part in the exchange.
-  gridfree::GatheredPieces gatheredBoundary;
-  gridfree::GatheredPieces gatheredSource;
-  if (this->GathersPieces())
+  vtkWalkOnSpheresSolverPieces pieces;
+  if (!this->GatherInputs(boundaryPiece, sourcePiece, pieces))
   {
-    std::string gatherReason;
-    for (auto port : { BoundaryPort, SourcePort })
-    {
-      if (this->GetNumberOfInputConnections(port) == 0)
-      {
-        continue; // the same on every rank
-      }
-      gridfree::GatheredPieces& gathered =
-        port == BoundaryPort ? gatheredBoundary : gatheredSource;
-      if (!gridfree::GatherPieces(this->Controller, port == BoundaryPort ? boundaryPiece
-                                                                         : sourcePiece,
-            gathered, gatherReason))
-      {
-        vtkErrorMacro(<< "Cannot gather the " << (port == BoundaryPort ? "Boundary" : "Source")
-                      << " input from the " << this->Controller->GetNumberOfProcesses()
-                      << " ranks: " << gatherReason << ".");
-        return 0;
-      }
-    }
-    if (this->GetNumberOfInputConnections(BoundaryPort) > 0)
-    {
-      boundaryObject = gatheredBoundary.Whole;
-    }
-    if (this->GetNumberOfInputConnections(SourcePort) > 0)
-    {
-      sourceObject = gatheredSource.Whole;
-    }
+    return 0;
   }
+  boundaryObject = pieces.Boundary.Whole;
+  sourceObject = pieces.Source.Whole;
   vtkPolyData* boundary = vtkPolyData::SafeDownCast(boundaryObject);
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
   vtkDataSet* source = vtkDataSet::SafeDownCast(sourceObject);
@@ -1001,7 +971,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   {
     // In a distributed run a rank whose piece of the probe is empty (a
     // slice that lies in another rank's block) is normal.
-    if (!this->GathersPieces())
+    if (!pieces.Distributed)
     {
       vtkWarningMacro(<< "The Probe input has no points: there is nothing to solve.");
     }
@@ -1022,9 +992,9 @@ int vtkWalkOnSpheresSolver::RequestData(
   // this rank's pieces and on the signature of every rank's pieces.)
   const std::array<vtkObject*, 4> used = { boundaryPiece, probe, sourcePiece,
     this->ImplicitBoundary };
-  const std::uint64_t gatheredSignature = gatheredBoundary.Signature ^
-    (gatheredSource.Signature * 1099511628211ULL);
-  inputs.BoundaryKey = this->BoundaryKey(boundaryPiece, gatheredBoundary.Signature, dimension,
+  const std::uint64_t gatheredSignature = pieces.Boundary.Signature ^
+    (pieces.Source.Signature * 1099511628211ULL);
+  inputs.BoundaryKey = this->BoundaryKey(boundaryPiece, pieces.Boundary.Signature, dimension,
     inputs, implicit || csg ? probe : nullptr);
   this->Cache->Validate(this->SettingsTime.GetMTime(), used, gatheredSignature);
   this->LastResumedWalksPerPoint = 0;
@@ -1045,11 +1015,11 @@ int vtkWalkOnSpheresSolver::RequestData(
     this->Cache->ForgetBoundary();
   }
   this->Cache->Remember(this->SettingsTime.GetMTime(), used, gatheredSignature);
-  if (ok && this->GathersPieces())
+  if (ok && pieces.Distributed)
   {
     vtkFieldData* fd = output->GetFieldData();
-    AddFieldValue(fd, "BoundaryPiecesGathered", gatheredBoundary.ContributingRanks);
-    AddFieldValue(fd, "SourcePiecesGathered", gatheredSource.ContributingRanks);
+    AddFieldValue(fd, "BoundaryPiecesGathered", pieces.Boundary.ContributingRanks);
+    AddFieldValue(fd, "SourcePiecesGathered", pieces.Source.ContributingRanks);
   }
   this->UpdateProgress(1.0);
   return ok ? 1 : 0;
@@ -1060,7 +1030,6 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ImplicitBoundary: " << this->ImplicitBoundary << "\n";
-  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "LipschitzBound: " << this->LipschitzBound << "\n";
   os << indent << "CsgOperation: " << this->CsgOperation << "\n";
   os << indent << "CsgBlendRadius: " << this->CsgBlendRadius << "\n";

@@ -88,13 +88,11 @@
  * Field data `TotalWalks`, `TotalSteps`, `EscapedWalks`, `TruncatedWalks` and
  * `SolveSeconds` summarize the run.
  *
- * Distributed runs (`mpirun -np N pvbatch`, a pvserver with N ranks): with a
- * Controller of more than one process, each rank asks its upstream for its
- * own piece of the Boundary and Source inputs, the solver gathers the whole
- * of both to every rank, and each rank solves its own piece of the probe.
- * Field data `BoundaryPiecesGathered` and `SourcePiecesGathered` count the
- * ranks whose pieces were merged (empty pieces and copies of a lower rank's
- * piece, from an upstream that ignores piece requests, are left out).
+ * Distributed runs (`mpirun -np N pvbatch`, a pvserver with N ranks) use the
+ * subclass vtkPWalkOnSpheresSolver (the plugin's proxy does), which gathers
+ * every rank's piece of the Boundary and Source inputs; this class solves its
+ * probe with the inputs as it receives them, asking its upstreams for the
+ * whole Boundary and Source.
  *
  * Probe points outside a closed boundary (or anywhere around an open one)
  * solve the exterior problem with u → 0 at infinity (3D) or u bounded (2D):
@@ -127,10 +125,10 @@
 class vtkDataArray;
 class vtkDataSet;
 class vtkImplicitFunction;
-class vtkMultiProcessController;
 class vtkPolyData;
 struct vtkWalkOnSpheresSolverCache;
 struct vtkWalkOnSpheresSolverInputs;
+struct vtkWalkOnSpheresSolverPieces;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
 {
@@ -490,20 +488,6 @@ public:
 
   ///@{
   /**
-   * The controller of a distributed run (default: the global controller, so
-   * under `mpirun pvbatch` or a pvserver with several ranks every rank takes
-   * part). With more than one process the solver gathers the pieces of the
-   * Boundary and Source inputs from every rank: executing it is then a
-   * collective operation that every rank must join. Set nullptr for a solver
-   * that runs on one rank alone (or inside another filter): it then asks its
-   * upstream for the whole inputs instead.
-   */
-  virtual void SetController(vtkMultiProcessController*);
-  vtkGetObjectMacro(Controller, vtkMultiProcessController);
-  ///@}
-
-  ///@{
-  /**
    * Statistics of the last execution: walks run, wall-clock seconds of the
    * solve, walks per second, dimension of the problem (2 or 3; 0 if none).
    */
@@ -553,11 +537,23 @@ protected:
   vtkDataArray* ResolveArray(
     int index, vtkDataSet* data, bool fallback, int& association, std::string& missing);
 
-  // True when the inputs are gathered from the ranks of Controller.
-  bool GathersPieces() const;
+  /**
+   * The Boundary and Source inputs the solve uses, from `boundary` and
+   * `source` as this rank received them. Here they are used as they are;
+   * vtkPWalkOnSpheresSolver gathers every rank's pieces. Called before any
+   * check that could end the execution early (a gather is collective).
+   * False after an error.
+   */
+  virtual bool GatherInputs(
+    vtkDataObject* boundary, vtkDataObject* source, vtkWalkOnSpheresSolverPieces& pieces);
+
+  /**
+   * Asks the Boundary or Source upstream (`info`) for what this rank needs:
+   * here the whole data.
+   */
+  virtual void RequestSharedInput(vtkInformation* info);
 
   vtkImplicitFunction* ImplicitBoundary = nullptr;
-  vtkMultiProcessController* Controller = nullptr;
   double LipschitzBound = 1.0;
   int CsgOperation = CSG_NONE;
   double CsgBlendRadius = 0.0;

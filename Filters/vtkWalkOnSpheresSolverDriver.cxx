@@ -15,10 +15,10 @@ vtkWalkOnSpheresSolverDriver::vtkWalkOnSpheresSolverDriver()
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
-  this->Solver->SetKeepRunningSums(false); // every run has new points
-  // The internal solver works on this filter's whole inputs, on this rank
-  // alone: it must not join the ranks' collective gather.
-  this->Solver->SetController(nullptr);
+  // Every run has new points. The internal solver is a plain
+  // vtkWalkOnSpheresSolver, which never gathers: it works on this filter's
+  // whole inputs, on this rank alone.
+  this->Solver->SetKeepRunningSums(false);
 }
 
 vtkWalkOnSpheresSolverDriver::~vtkWalkOnSpheresSolverDriver()

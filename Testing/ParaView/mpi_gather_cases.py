@@ -1,9 +1,10 @@
 """Run under `mpirun -np 2 pvbatch --symmetric` (every rank runs the script):
 the solver's gather of Boundary and
 Source pieces, case by case, on data each rank builds itself. In every case
-the distributed solver (the global controller, each rank holding only its own
-piece) must give, bit for bit, what a serial solver (no controller) gives on
-the whole made locally from the same pieces in rank order:
+the distributed solver (vtkPWalkOnSpheresSolver with the global controller,
+each rank holding only its own piece) must give, bit for bit, what a serial
+solver (vtkWalkOnSpheresSolver) gives on the whole made locally from the same
+pieces in rank order:
 
 - a polygonal boundary split into halves;
 - a CSG union of two spheres given as a multiblock, each block split;
@@ -12,7 +13,7 @@ the whole made locally from the same pieces in rank order:
 - an image source split in blocks that leave a hole: every rank reports the
   error and none waits forever;
 - a filter that runs its solver internally, executed on rank 0 alone, must
-  not wait for rank 1 (its internal solver has no controller).
+  not wait for rank 1 (its internal solver is a plain vtkWalkOnSpheresSolver).
 
 Each rank's verdict is reduced over the ranks; rank 0 prints "ok" only when
 every rank passed."""
@@ -36,6 +37,7 @@ RANKS = controller.GetNumberOfProcesses()
 RANK = controller.GetLocalProcessId()
 POINTS = 0  # vtkDataObject.FIELD_ASSOCIATION_POINTS
 Solver = gridfree.vtkWalkOnSpheresSolver
+DistributedSolver = gridfree.vtkPWalkOnSpheresSolver
 
 
 def sphere(center, radius):
@@ -102,9 +104,9 @@ def probe():
 
 
 def solver_on(boundary, source=None, distributed=True):
-    solver = Solver()
-    if not distributed:
-        solver.SetController(None)
+    # The distributed solver gathers; the plain one solves with what its
+    # rank holds (here every rank holds the whole boundary).
+    solver = DistributedSolver() if distributed else Solver()
     solver.SetBoundaryData(boundary)
     solver.SetProbeData(probe())
     solver.SetInputArrayToProcess(0, 0, 0, POINTS, "g")
@@ -139,7 +141,7 @@ def check_same(distributed, serial, boundary_pieces, source_pieces):
         field(distributed, "BoundaryPiecesGathered")
     assert field(distributed, "SourcePiecesGathered") == source_pieces, \
         field(distributed, "SourcePiecesGathered")
-    assert field(serial, "BoundaryPiecesGathered") is None  # no controller, no gather
+    assert field(serial, "BoundaryPiecesGathered") is None  # the plain solver never gathers
     mine, reference = arrays(distributed), arrays(serial)
     assert mine == reference, "the distributed solve differs from the serial one"
     assert all(math.isfinite(c) for row in mine[0] for c in row)
@@ -277,7 +279,8 @@ def case_internal_solver_on_one_rank():
     tracer.SetWalksPerPoint(16)
     tracer.SetMaximumNumberOfSteps(5)
     tracer.Update()
-    assert tracer.GetSolver().GetController() is None
+    # Its internal solver never gathers (a plain vtkWalkOnSpheresSolver).
+    assert not tracer.GetSolver().IsA("vtkPWalkOnSpheresSolver")
     assert tracer.GetOutput().GetNumberOfPoints() > 0
     return "ran on rank 0 alone"
 
