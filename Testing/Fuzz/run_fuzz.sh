@@ -29,7 +29,7 @@ fi
 
 if [[ ! -f "$BUILD/CMakeCache.txt" ]]; then
   log "configuring in $BUILD"
-  CXX=clang++ cmake -S "$ROOT/Testing/Fuzz" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  cmake -S "$ROOT/Testing/Fuzz" --preset fuzz -B "$BUILD" \
     >"$BUILD.configure.log" 2>&1 || { cat "$BUILD.configure.log" >&2; exit 2; }
   mv "$BUILD.configure.log" "$BUILD/configure.log"
 fi
