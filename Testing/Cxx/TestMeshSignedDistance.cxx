@@ -622,7 +622,7 @@ TEST(MeshSignedDistance, CsgDifferenceWithBox)
 // Walk on spheres through the implicit path (paper Sec. 5.1.3–5.1.4): the
 // Laplace equation with harmonic boundary data, whose exact solution is the
 // harmonic function itself (paper Eqn. 5; the same check as the mesh tests
-// in TestLaplaceWalkOnSpheres.cxx).
+// in TestWalkOnSpheresLaplace.cxx).
 namespace
 {
 Calibration SolveLaplace(std::shared_ptr<const SignedDistanceFunction<3>> phi, const Field<3>& g,
