@@ -50,17 +50,14 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <sstream>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 vtkStandardNewMacro(vtkWalkOnSpheresSolver);
@@ -205,7 +202,6 @@ public:
                                          "results are NaN.");
     }
 
-    const int outputComponents = biharmonic ? 2 * nc : nc;
     auto mean = MakeArray(in.Name, nc, numPoints);
     auto variance = MakeArray(in.Name + "_Variance", nc, numPoints);
     vtkSmartPointer<vtkDoubleArray> laplacian, laplacianVariance;
