@@ -3,7 +3,7 @@
 #include "GridFreeBoundaryConversion.h"
 #include "GridFreeCsgBoundary.h"
 #include "GridFreeImplicitBoundary.h"
-#include "GridFreeSolverInputs.h"
+#include "GridFreeProblemInputs.h"
 #include "GridFreeSourceConversion.h"
 
 #include "vtkDataSet.h"
@@ -31,7 +31,7 @@ class BoundaryAssembly
 {
 public:
   // The plane of a 2D problem (the boundary's z); 0 for a 3D one.
-  static double PlaneZ(const vtkWalkOnSpheresSolverInputs& in)
+  static double PlaneZ(const gridfree::ProblemInputs& in)
   {
     double bounds[6] = { 0, 0, 0, 0, 0, 0 };
     if (DIM == 2 && in.Boundary)
@@ -74,11 +74,11 @@ public:
   // The box of the probe's points (and `extra`), enlarged by half: the
   // problem's region where the boundary is not known to be bounded.
   static gridfree::BoundingBox<DIM> ProbeRegion(
-    const vtkWalkOnSpheresSolverInputs& in, const gridfree::BoundingBox<DIM>& extra)
+    const gridfree::ProblemInputs& in, const gridfree::BoundingBox<DIM>& extra)
   {
     gridfree::BoundingBox<DIM> region;
     double b[6];
-    in.Probe->GetBounds(b);
+    in.Region->GetBounds(b);
     gridfree::Vec<DIM> lo, hi;
     for (int k = 0; k < DIM; ++k)
     {
@@ -104,7 +104,7 @@ public:
   // LipschitzBound only shortens the steps. Null, with an error, for invalid
   // parameters.
   static std::shared_ptr<const gridfree::SignedDistanceFunction<3>> MakeImplicitFunction(
-    vtkObject* self, const vtkWalkOnSpheresSolverInputs& in, bool& exact,
+    vtkObject* self, const gridfree::ProblemInputs& in, bool& exact,
     double& lipschitz)
   {
     const std::string invalid = gridfree::InvalidPrimitiveError(in.Implicit);
@@ -126,17 +126,17 @@ public:
 
   // Never trust a function's scale: look for a steeper slope than L in
   // `checked`, on the sides of the surface the probe is on (where walks go).
-  static void CheckLipschitz(vtkObject* self, const vtkWalkOnSpheresSolverInputs& in,
+  static void CheckLipschitz(vtkObject* self, const gridfree::ProblemInputs& in,
     const gridfree::SignedDistanceFunction<3>& phi, double lipschitz,
     const gridfree::BoundingBox<3>& checked)
   {
     bool inside = false, outside = false;
-    const vtkIdType n = in.Probe->GetNumberOfPoints();
+    const vtkIdType n = in.Region->GetNumberOfPoints();
     const vtkIdType stride = std::max<vtkIdType>(1, n / 1000);
     for (vtkIdType i = 0; i < n; i += stride)
     {
       double p[3];
-      in.Probe->GetPoint(i, p);
+      in.Region->GetPoint(i, p);
       const double value = phi.Value(gridfree::Vec3(p[0], p[1], p[2]));
       inside = inside || value < 0.0;
       outside = outside || value > 0.0;
@@ -156,7 +156,7 @@ public:
 
   // The CSG of the Boundary's blocks and the implicit boundary (paper Sec.
   // 5.1.4), with values from the expressions or each block's own array.
-  static bool BuildCsg(vtkObject* self, const vtkWalkOnSpheresSolverInputs& in,
+  static bool BuildCsg(vtkObject* self, const gridfree::ProblemInputs& in,
     std::shared_ptr<const gridfree::BoundaryValueFunction<DIM>> valueFunction,
     gridfree::Boundary<DIM>& geometry)
   {
@@ -212,7 +212,7 @@ public:
   // expressions, an implicit surface with values from expressions or
   // sampled from the Boundary input's mesh, or a CSG of blocks and the
   // implicit surface.
-  static bool BuildBoundary(vtkObject* self, const vtkWalkOnSpheresSolverInputs& in,
+  static bool BuildBoundary(vtkObject* self, const gridfree::ProblemInputs& in,
     gridfree::Boundary<DIM>& geometry)
   {
     std::shared_ptr<const gridfree::BoundaryValueFunction<DIM>> valueFunction;
@@ -285,13 +285,13 @@ public:
 } // namespace
 
 template <int DIM>
-double ProblemPlaneZ(const vtkWalkOnSpheresSolverInputs& in)
+double ProblemPlaneZ(const gridfree::ProblemInputs& in)
 {
   return BoundaryAssembly<DIM>::PlaneZ(in);
 }
 
 template <int DIM>
-bool AssembleBoundary(vtkObject* reporter, const vtkWalkOnSpheresSolverInputs& in,
+bool AssembleBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
   Boundary<DIM>& geometry)
 {
   if (!BoundaryAssembly<DIM>::BuildBoundary(reporter, in, geometry))
@@ -302,8 +302,8 @@ bool AssembleBoundary(vtkObject* reporter, const vtkWalkOnSpheresSolverInputs& i
   return true;
 }
 
-template double ProblemPlaneZ<2>(const vtkWalkOnSpheresSolverInputs&);
-template double ProblemPlaneZ<3>(const vtkWalkOnSpheresSolverInputs&);
-template bool AssembleBoundary<2>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<2>&);
-template bool AssembleBoundary<3>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<3>&);
+template double ProblemPlaneZ<2>(const gridfree::ProblemInputs&);
+template double ProblemPlaneZ<3>(const gridfree::ProblemInputs&);
+template bool AssembleBoundary<2>(vtkObject*, const gridfree::ProblemInputs&, Boundary<2>&);
+template bool AssembleBoundary<3>(vtkObject*, const gridfree::ProblemInputs&, Boundary<3>&);
 } // namespace gridfree

@@ -11,25 +11,28 @@
 #include <gridfree/boundary/Boundary.h>
 
 class vtkObject;
-struct vtkWalkOnSpheresSolverInputs;
+namespace gridfree
+{
+struct ProblemInputs;
+}
 
 namespace gridfree
 {
 // Builds `geometry` (values, hierarchy, bound grid; two-sided if asked);
 // false after an error message.
 template <int DIM>
-bool AssembleBoundary(vtkObject* reporter, const vtkWalkOnSpheresSolverInputs& in,
+bool AssembleBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
   Boundary<DIM>& geometry);
 
 // The plane of a 2D problem (the boundary's z), where expressions and
 // sources are sampled; 0 for a 3D one.
 template <int DIM>
-double ProblemPlaneZ(const vtkWalkOnSpheresSolverInputs& in);
+double ProblemPlaneZ(const gridfree::ProblemInputs& in);
 
-extern template bool AssembleBoundary<2>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<2>&);
-extern template bool AssembleBoundary<3>(vtkObject*, const vtkWalkOnSpheresSolverInputs&, Boundary<3>&);
-extern template double ProblemPlaneZ<2>(const vtkWalkOnSpheresSolverInputs&);
-extern template double ProblemPlaneZ<3>(const vtkWalkOnSpheresSolverInputs&);
+extern template bool AssembleBoundary<2>(vtkObject*, const gridfree::ProblemInputs&, Boundary<2>&);
+extern template bool AssembleBoundary<3>(vtkObject*, const gridfree::ProblemInputs&, Boundary<3>&);
+extern template double ProblemPlaneZ<2>(const gridfree::ProblemInputs&);
+extern template double ProblemPlaneZ<3>(const gridfree::ProblemInputs&);
 } // namespace gridfree
 
 #endif

@@ -1,7 +1,9 @@
 #include "GridFreeBoundaryValueArrays.h"
 
+#include "GridFreeArraySelection.h"
 #include "GridFreeBoundaryConversion.h"
-#include "GridFreeSolverInputs.h"
+#include "GridFreeProblemInputs.h"
+#include "GridFreeSolveSettings.h"
 #include "vtkWalkOnSpheresSolver.h"
 
 #include "vtkCellData.h"
@@ -51,20 +53,20 @@ vtkSmartPointer<vtkDoubleArray> Concatenate(vtkDataArray* g, vtkDataArray* h)
 }
 } // namespace
 
-bool vtkWalkOnSpheresSolverBoundaryValues::OfMesh(vtkWalkOnSpheresSolver* self, vtkPolyData* mesh, const std::string& what,
-  std::string& name, vtkSmartPointer<vtkDataArray>& combined, bool& cellData)
+bool gridfree::BoundaryValuesOfMesh(const gridfree::BoundaryValueContext& context,
+  vtkPolyData* mesh, const std::string& what, std::string& name,
+  vtkSmartPointer<vtkDataArray>& combined, bool& cellData)
 {
   std::string reason;
   int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* values = self->ResolveArray(0, mesh, true, association, reason);
+  vtkDataArray* values = context.Arrays.Resolve(0, mesh, true, association, reason);
   if (!values)
   {
-    vtkErrorWithObjectMacro(self,
-      << (reason.empty()
-             ? "No boundary values on " + what +
+    vtkErrorWithObjectMacro(context.Reporter,
+      << (reason.empty() ? "No boundary values on " + what +
                ": select a numeric point or cell array with SetInputArrayToProcess(0, 0, 0, "
                "association, name), or set BoundaryValueExpression."
-             : "Cannot use the boundary values of " + what + ": " + reason + "."));
+                         : "Cannot use the boundary values of " + what + ": " + reason + "."));
     return false;
   }
   if (values->GetName() && *values->GetName())
@@ -74,96 +76,100 @@ bool vtkWalkOnSpheresSolverBoundaryValues::OfMesh(vtkWalkOnSpheresSolver* self, 
   cellData = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
   if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS && !cellData)
   {
-    vtkErrorWithObjectMacro(self, << "Boundary values must be point data or cell data.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "Boundary values must be point data or cell data.");
     return false;
   }
   // Non-finite boundary data would silently poison every walk that ends near it.
   if (const vtkIdType nonFinite = CountNonFinite(values))
   {
-    vtkErrorWithObjectMacro(self, << "The boundary value array '" << name << "' of " << what
-                                  << " has " << nonFinite
-                                  << " NaN or infinite values: boundary values must be finite.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The boundary value array '" << name << "' of " << what << " has "
+                        << nonFinite << " NaN or infinite values: boundary values must be finite.");
     return false;
   }
   combined = values;
-  if (self->TwoSidedBoundaryValues)
+  if (context.Settings.TwoSidedBoundaryValues)
   {
-    return BackValues(self, mesh, what, name, values, association, combined);
+    return gridfree::BackBoundaryValues(context, mesh, what, name, values, association, combined);
   }
-  if (self->Equation != vtkWalkOnSpheresSolver::BIHARMONIC)
+  if (context.Settings.Equation != vtkWalkOnSpheresSolver::BIHARMONIC)
   {
     return true;
   }
   // The biharmonic equation's second boundary array h = Δu.
   int hAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* h = self->ResolveArray(1, mesh, false, hAssociation, reason);
+  vtkDataArray* h = context.Arrays.Resolve(1, mesh, false, hAssociation, reason);
   if (!h)
   {
-    vtkErrorWithObjectMacro(self, << "The biharmonic equation needs a second boundary array for "
-                                     "the Laplacian h (Δu = h on the boundary) on "
-                                  << what
-                                  << ", selected with SetInputArrayToProcess(1, 0, 0, "
-                                     "association, name)"
-                                  << (reason.empty() ? std::string(".") : ": " + reason + "."));
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The biharmonic equation needs a second boundary array for "
+                           "the Laplacian h (Δu = h on the boundary) on "
+                        << what
+                        << ", selected with SetInputArrayToProcess(1, 0, 0, "
+                           "association, name)"
+                        << (reason.empty() ? std::string(".") : ": " + reason + "."));
     return false;
   }
-  if (hAssociation != association ||
-    h->GetNumberOfComponents() != values->GetNumberOfComponents())
+  if (hAssociation != association || h->GetNumberOfComponents() != values->GetNumberOfComponents())
   {
-    vtkErrorWithObjectMacro(self, << "The Laplacian array '" << (h->GetName() ? h->GetName() : "")
-                                  << "' must have the association (point or cell data) and "
-                                     "the number of components of the boundary value array '"
-                                  << name << "'.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The Laplacian array '" << (h->GetName() ? h->GetName() : "")
+                        << "' must have the association (point or cell data) and "
+                           "the number of components of the boundary value array '"
+                        << name << "'.");
     return false;
   }
   if (const vtkIdType nonFinite = CountNonFinite(h))
   {
-    vtkErrorWithObjectMacro(self, << "The Laplacian array has " << nonFinite
-                                  << " NaN or infinite values: boundary values must be finite.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The Laplacian array has " << nonFinite
+                        << " NaN or infinite values: boundary values must be finite.");
     return false;
   }
   combined = Concatenate(values, h);
   return true;
 }
 
-bool vtkWalkOnSpheresSolverBoundaryValues::BackValues(vtkWalkOnSpheresSolver* self, vtkPolyData* mesh, const std::string& what,
-  const std::string& name, vtkDataArray* values, int association,
+bool gridfree::BackBoundaryValues(const gridfree::BoundaryValueContext& context, vtkPolyData* mesh,
+  const std::string& what, const std::string& name, vtkDataArray* values, int association,
   vtkSmartPointer<vtkDataArray>& combined)
 {
   std::string reason;
   int backAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* back = self->ResolveArray(3, mesh, false, backAssociation, reason);
+  vtkDataArray* back = context.Arrays.Resolve(3, mesh, false, backAssociation, reason);
   if (!back)
   {
-    vtkErrorWithObjectMacro(self, << "Two-sided boundary values need the back side's array on "
-                                  << what
-                                  << ", selected with SetInputArrayToProcess(3, 0, 0, "
-                                     "association, name)"
-                                  << (reason.empty() ? std::string(".") : ": " + reason + "."));
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "Two-sided boundary values need the back side's array on " << what
+                        << ", selected with SetInputArrayToProcess(3, 0, 0, "
+                           "association, name)"
+                        << (reason.empty() ? std::string(".") : ": " + reason + "."));
     return false;
   }
   if (backAssociation != association ||
     back->GetNumberOfComponents() != values->GetNumberOfComponents())
   {
-    vtkErrorWithObjectMacro(self, << "The back value array '"
-                                  << (back->GetName() ? back->GetName() : "")
-                                  << "' must have the association (point or cell data) and "
-                                     "the number of components of the front value array '"
-                                  << name << "'.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The back value array '" << (back->GetName() ? back->GetName() : "")
+                        << "' must have the association (point or cell data) and "
+                           "the number of components of the front value array '"
+                        << name << "'.");
     return false;
   }
   if (const vtkIdType nonFinite = CountNonFinite(back))
   {
-    vtkErrorWithObjectMacro(self, << "The back value array has " << nonFinite
-                                  << " NaN or infinite values: boundary values must be finite.");
+    vtkErrorWithObjectMacro(
+      context.Reporter, << "The back value array has " << nonFinite
+                        << " NaN or infinite values: boundary values must be finite.");
     return false;
   }
   combined = Concatenate(values, back);
   return true;
 }
 
-bool vtkWalkOnSpheresSolverBoundaryValues::OfBoundary(vtkWalkOnSpheresSolver* self, vtkPolyData* boundary, bool implicit,
-  bool expressionValues, int& dimension, std::string& name,
+bool gridfree::BoundaryValuesOfBoundary(const gridfree::BoundaryValueContext& context,
+  vtkPolyData* boundary, bool implicit, bool expressionValues, int& dimension, std::string& name,
   vtkSmartPointer<vtkDataArray>& combined, bool& cellData)
 {
   std::string reason;
@@ -172,25 +178,29 @@ bool vtkWalkOnSpheresSolverBoundaryValues::OfBoundary(vtkWalkOnSpheresSolver* se
     dimension = gridfree::DetectBoundaryDimension(boundary, reason);
     if (dimension == 0)
     {
-      vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
+      vtkErrorWithObjectMacro(
+        context.Reporter, << "Cannot use the Boundary input: " << reason << ".");
       return false;
     }
     if (implicit && dimension != 3)
     {
-      vtkErrorWithObjectMacro(self, << "An implicit boundary makes a 3D problem: the mesh its "
-                                       "values are sampled from must be a surface (polygons), "
-                                       "not lines.");
+      vtkErrorWithObjectMacro(
+        context.Reporter, << "An implicit boundary makes a 3D problem: the mesh its "
+                             "values are sampled from must be a surface (polygons), "
+                             "not lines.");
       return false;
     }
   }
   return expressionValues ||
-    OfMesh(self, boundary, "the Boundary input", name, combined, cellData);
+    gridfree::BoundaryValuesOfMesh(
+      context, boundary, "the Boundary input", name, combined, cellData);
 }
 
-bool vtkWalkOnSpheresSolverBoundaryValues::OfCsgOperands(vtkWalkOnSpheresSolver* self, const std::vector<vtkPolyData*>& blocks,
-  bool expressionValues, vtkWalkOnSpheresSolverInputs& inputs, int& dimension, std::string& name)
+bool gridfree::BoundaryValuesOfCsgOperands(const gridfree::BoundaryValueContext& context,
+  const std::vector<vtkPolyData*>& blocks, bool expressionValues, gridfree::ProblemInputs& inputs,
+  int& dimension, std::string& name)
 {
-  const bool implicit = self->ImplicitBoundary != nullptr;
+  const bool implicit = context.Settings.ImplicitBoundary != nullptr;
   dimension = implicit ? 3 : 0;
   int components = 0;
   for (std::size_t i = 0; i < blocks.size(); ++i)
@@ -202,15 +212,14 @@ bool vtkWalkOnSpheresSolverBoundaryValues::OfCsgOperands(vtkWalkOnSpheresSolver*
     const int d = gridfree::DetectBoundaryDimension(blocks[i], reason);
     if (d == 0)
     {
-      vtkErrorWithObjectMacro(self, << "Cannot use " << what << ": " << reason << ".");
+      vtkErrorWithObjectMacro(context.Reporter, << "Cannot use " << what << ": " << reason << ".");
       return false;
     }
     if (dimension != 0 && d != dimension)
     {
-      vtkErrorWithObjectMacro(self, << "The CSG operands mix 2D and 3D: " << what << " makes a "
-                                    << d << "D problem, "
-                                    << (implicit ? "the implicit boundary" : "block 0")
-                                    << " a " << dimension << "D one.");
+      vtkErrorWithObjectMacro(context.Reporter,
+        << "The CSG operands mix 2D and 3D: " << what << " makes a " << d << "D problem, "
+        << (implicit ? "the implicit boundary" : "block 0") << " a " << dimension << "D one.");
       return false;
     }
     dimension = d;
@@ -220,7 +229,8 @@ bool vtkWalkOnSpheresSolverBoundaryValues::OfCsgOperands(vtkWalkOnSpheresSolver*
     {
       vtkSmartPointer<vtkDataArray> values;
       std::string blockName = name;
-      if (!OfMesh(self, blocks[i], what, blockName, values, operand.CellData))
+      if (!gridfree::BoundaryValuesOfMesh(
+            context, blocks[i], what, blockName, values, operand.CellData))
       {
         return false;
       }
@@ -231,10 +241,10 @@ bool vtkWalkOnSpheresSolverBoundaryValues::OfCsgOperands(vtkWalkOnSpheresSolver*
       }
       else if (values->GetNumberOfComponents() != components)
       {
-        vtkErrorWithObjectMacro(self, << "The boundary values of " << what << " have "
-                                      << values->GetNumberOfComponents()
-                                      << " components, those of block 0 " << components
-                                      << ": every block needs the same number.");
+        vtkErrorWithObjectMacro(context.Reporter, << "The boundary values of " << what << " have "
+                                                  << values->GetNumberOfComponents()
+                                                  << " components, those of block 0 " << components
+                                                  << ": every block needs the same number.");
         return false;
       }
       operand.Values = values;

@@ -1,6 +1,6 @@
-// What vtkWalkOnSpheresSolver keeps between executions: the running sums for
-// progressive refinement and the last boundary built, each with what it was
-// computed from.
+// What vtkWalkOnSpheresSolver keeps between executions for progressive
+// refinement: the running sums, with what they were computed from (the
+// built boundary is kept by its GridFreeProblemBuilder).
 // Private to the GridFree::Filters module.
 #ifndef GridFreeSolverCache_h
 #define GridFreeSolverCache_h
@@ -8,12 +8,10 @@
 #include "GridFreeInputFingerprint.h"
 #include "vtkType.h"
 
-#include <gridfree/boundary/Boundary.h>
 #include <gridfree/statistics/RunningSumsCache.h>
 
 #include <array>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 class vtkObject;
@@ -26,34 +24,6 @@ struct vtkWalkOnSpheresSolverCache
   gridfree::RunningSumsCache Sums;
   vtkMTimeType Settings = 0;
   std::vector<std::uint64_t> Inputs;
-
-  // The last boundary built (mesh, hierarchy, bound grid and values) and
-  // what it was built from (BoundaryKey): a solve whose boundary inputs and
-  // boundary settings did not change reuses it, so moving the probe, raising
-  // the walks or refining never rebuilds the hierarchy.
-  std::vector<std::uint64_t> BoundaryKey;
-  std::shared_ptr<const gridfree::Boundary<2>> Boundary2;
-  std::shared_ptr<const gridfree::Boundary<3>> Boundary3;
-
-  template <int DIM>
-  std::shared_ptr<const gridfree::Boundary<DIM>>& CachedBoundary()
-  {
-    if constexpr (DIM == 2)
-    {
-      return this->Boundary2;
-    }
-    else
-    {
-      return this->Boundary3;
-    }
-  }
-
-  void ForgetBoundary()
-  {
-    this->BoundaryKey.clear();
-    this->Boundary2.reset();
-    this->Boundary3.reset();
-  }
 
   // `gathered`: the signature of the pieces gathered from other ranks (0 in
   // a serial run).

@@ -2,10 +2,8 @@
 
 #include "GridFreeArrays.h"
 
-#include "vtkWalkOnSpheresSolver.h"
 
 #include <gridfree/applications/AdaptiveSampling.h>
-#include "GridFreeMessageCollector.h"
 #include "GridFreeVisibleNeighbours.h"
 #include <gridfree/execution/ParallelExecution.h>
 
@@ -123,51 +121,37 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
     domain->GetPoint(i, candidates[static_cast<std::size_t>(i)].data());
   }
 
-  this->ConnectSolver(boundary, source);
-  vtkWalkOnSpheresSolver* solver = this->Solver;
-  vtkNew<gridfree::MessageCollector> errors, warnings;
-  const unsigned long errorObserver = solver->AddObserver(vtkCommand::ErrorEvent, errors);
-  // The solver runs once per round: its warnings are reported once, below.
-  const unsigned long warningObserver = solver->AddObserver(vtkCommand::WarningEvent, warnings);
-  auto detach = [&]() {
-    solver->RemoveObserver(errorObserver);
-    solver->RemoveObserver(warningObserver);
-  };
+  // The problem, built once for all the rounds.
+  if (!this->BuildProblem(boundary, source, domain))
+  {
+    return 0;
+  }
 
   // Solves at the given candidates and appends them to the samples.
   SampleSet samples;
   samples.Points->SetDataTypeToDouble();
   double solveSeconds = 0.0;
-  vtkNew<vtkPolyData> probe;
+  // Estimates at the candidates `ids` and appends them to the samples;
+  // false when aborted (the samples stay as they were).
   auto solveAt = [&](const std::vector<vtkIdType>& ids, int round,
                    const std::vector<double>& scores) -> bool {
-    vtkNew<vtkPoints> coordinates;
-    coordinates->SetDataTypeToDouble();
-    coordinates->SetNumberOfPoints(static_cast<vtkIdType>(ids.size()));
+    std::vector<std::array<double, 3>> points(ids.size());
     for (std::size_t i = 0; i < ids.size(); ++i)
     {
-      coordinates->SetPoint(
-        static_cast<vtkIdType>(i), candidates[static_cast<std::size_t>(ids[i])].data());
+      points[i] = candidates[static_cast<std::size_t>(ids[i])];
     }
-    probe->Initialize();
-    probe->SetPoints(coordinates);
-    solver->SetInputData(1, probe);
-    solver->Modified(); // the probe object is reused: its points changed
-    solver->Update();
-    vtkDataSet* result = solver->GetOutput();
-    vtkPointData* pd = result ? result->GetPointData() : nullptr;
-    vtkDataArray* value = pd ? pd->GetScalars() : nullptr;
-    if (!errors->Text.empty() || !value)
+    vtkNew<vtkPointData> pd;
+    double seconds = 0.0;
+    const bool completed =
+      this->EstimateAt(points, pd, this->GetProgress(), seconds, this->LastNumberOfWalks);
+    solveSeconds += seconds;
+    if (!completed)
     {
       return false;
     }
-    const std::string name = value->GetName() ? value->GetName() : "Solution";
+    const std::string name = this->GetSolutionName();
+    vtkDataArray* value = pd->GetArray(name.c_str());
     vtkDataArray* gradient = pd->GetArray((name + "_Gradient").c_str());
-    if (!gradient)
-    {
-      errors->Text += "the solver gave no gradient (" + name + "_Gradient)";
-      return false;
-    }
     vtkDataArray* variance = pd->GetArray((name + "_Variance").c_str());
     vtkDataArray* gradientVariance = pd->GetArray((name + "_Gradient_Variance").c_str());
     const int nc = value->GetNumberOfComponents();
@@ -177,8 +161,6 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
       samples.Name = name;
       samples.Data->CopyAllocate(pd);
     }
-    this->LastNumberOfWalks += solver->GetLastNumberOfWalks();
-    solveSeconds += solver->GetLastSolveSeconds();
     for (std::size_t i = 0; i < ids.size(); ++i)
     {
       const auto j = static_cast<vtkIdType>(i);
@@ -214,7 +196,6 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   }
   if (spread.empty())
   {
-    detach();
     vtkErrorMacro(<< "The Domain input has no finite point to sample.");
     return 0;
   }
@@ -222,9 +203,8 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   if (!solveAt(firstIds, 0,
         std::vector<double>(firstIds.size(), std::numeric_limits<double>::quiet_NaN())))
   {
-    detach();
-    vtkErrorMacro(<< "The solver failed: " << errors->Text);
-    return 0;
+    vtkWarningMacro(<< "Adaptive sampling aborted before the first samples were estimated.");
+    return 1;
   }
   const int nc = samples.Components;
 
@@ -378,9 +358,8 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
     }
     if (!solveAt(chosen, round, chosenScores))
     {
-      detach();
-      vtkErrorMacro(<< "The solver failed in refinement round " << round << ": " << errors->Text);
-      return 0;
+      aborted = true;
+      break;
     }
     for (vtkIdType id : chosen)
     {
@@ -388,11 +367,8 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
     }
     this->LastNumberOfRounds = round;
   }
-  detach();
-  if (!warnings->Text.empty())
-  {
-    vtkWarningMacro(<< "The solver warned: " << warnings->Text);
-  }
+  // Each distinct warning of the rounds once.
+  this->ReportWarnings();
   if (aborted)
   {
     vtkWarningMacro(<< "Adaptive sampling aborted after " << samples.Size() << " samples.");

@@ -7,9 +7,11 @@
  * Input 0 ("Boundary") and input 2 ("Source", optional) are the solver's
  * (see vtkWalkOnSpheresSolver); input 1 ("Domain") is any vtkDataSet whose
  * points are the candidate sample locations: the pixels of a slice or an
- * image, a point cloud. The internal solver (GetSolver()) estimates value
- * and gradient at the chosen points; the boundary array is the one selected
- * on this filter with SetInputArrayToProcess(0, ...).
+ * image, a point cloud. The problem is built once per execution and asked
+ * directly for value and gradient at the chosen points (settings: see
+ * vtkWalkOnSpheresSolverDriver); the boundary array is the one selected on
+ * this filter with SetInputArrayToProcess(0, ...). An implicit boundary is
+ * built around the Domain's points.
  *
  * 1. About InitialSamples well-spread candidates are solved first (the
  *    candidate nearest the centre of each occupied cell of a uniform grid).
@@ -64,8 +66,8 @@ public:
   ///@{
   /**
    * The candidate points (port 1). Boundary (port 0) and Source (port 2):
-   * see vtkWalkOnSpheresSolverDriver, which also holds the solver
-   * (GetSolver()) and the shortcuts to its settings.
+   * see vtkWalkOnSpheresSolverDriver, which also holds the solve's
+   * settings.
    */
   void SetDomainConnection(vtkAlgorithmOutput* output);
   void SetDomainData(vtkDataObject* data);

@@ -16,8 +16,11 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkWalkOnSpheresSolver.h"
+#include "GridFreeArraySelection.h"
+#include "GridFreeSolveSettings.h"
+#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -163,20 +166,13 @@ int vtkWalkOnSpheresCrossField::RequestData(
   // One solve of ψ and ∇ψ at `where`, with `walks` walks per point.
   auto solve = [&](vtkDataSet* where, int walks, double begin, double end,
                  vtkSmartPointer<vtkDataSet>& result) {
-    vtkNew<vtkWalkOnSpheresSolver> solver;
-    this->ConfigureSolver(solver);
-    solver->SetWalksPerPoint(walks);
-    solver->SetInputData(0, encoded);
-    solver->SetInputData(1, where);
-    solver->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
-    solver->ComputeGradientOn();
+    gridfree::SolveSettings settings = this->SamplingSettings();
+    settings.WalksPerPoint = std::max(walks, 2);
+    settings.ComputeGradient = true;
+    gridfree::ArraySelections arrays;
+    arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
     bool aborted = false;
-    if (!this->RunSolver(solver, begin, end, aborted))
-    {
-      return false;
-    }
-    result = solver->GetOutput();
-    return true;
+    return this->Solve(settings, arrays, encoded, nullptr, where, begin, end, result, aborted);
   };
 
   // The probe: ψ and the four directions.

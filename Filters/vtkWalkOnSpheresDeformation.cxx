@@ -17,7 +17,9 @@
 #include "vtkPolyData.h"
 #include "vtkRectilinearGrid.h"
 #include "vtkStructuredGrid.h"
-#include "vtkWalkOnSpheresSolver.h"
+#include "GridFreeArraySelection.h"
+#include "GridFreeSolveSettings.h"
+#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <cmath>
 #include <stdexcept>
@@ -169,16 +171,13 @@ int vtkWalkOnSpheresDeformation::RequestData(
   vtkSmartPointer<vtkDataSet> solved;
   if (m > 0)
   {
-    vtkNew<vtkWalkOnSpheresSolver> solver;
-    this->ConfigureSolver(solver);
-    solver->SetInputData(0, boundary);
-    solver->SetInputData(1, probe);
-    solver->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMap);
-    solver->SetInputArrayToProcess(
-      1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMapLaplacian);
-    solver->SetEquationToBiharmonic();
+    gridfree::SolveSettings settings = this->SamplingSettings();
+    settings.Equation = vtkWalkOnSpheresSolver::BIHARMONIC;
+    gridfree::ArraySelections arrays;
+    arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMap);
+    arrays.Select(1, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMapLaplacian);
     bool aborted = false;
-    if (!this->RunSolver(solver, 0.0, 1.0, aborted))
+    if (!this->Solve(settings, arrays, boundary, nullptr, probe, 0.0, 1.0, solved, aborted))
     {
       if (aborted)
       {
@@ -187,7 +186,6 @@ int vtkWalkOnSpheresDeformation::RequestData(
       }
       return 0;
     }
-    solved = solver->GetOutput();
   }
 
   // The warped copy.

@@ -13,7 +13,9 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
-#include "vtkWalkOnSpheresSolver.h"
+#include "GridFreeArraySelection.h"
+#include "GridFreeSolveSettings.h"
+#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <algorithm>
 #include <cmath>
@@ -238,36 +240,34 @@ int vtkWalkOnSpheresDiffusionCurves::RequestData(
     points = image;
   }
 
-  vtkNew<vtkWalkOnSpheresSolver> solver;
-  this->ConfigureSolver(solver);
-  solver->SetInputData(0, boundary);
-  solver->SetInputData(1, points);
-  solver->SetInputArrayToProcess(0, 0, 0, frontAssociation, front->GetName());
-  solver->SetInputArrayToProcess(3, 0, 0, backAssociation, back->GetName());
-  solver->TwoSidedBoundaryValuesOn();
+  gridfree::SolveSettings settings = this->SamplingSettings();
+  settings.TwoSidedBoundaryValues = true;
+  gridfree::ArraySelections arrays;
+  arrays.Select(0, frontAssociation, front->GetName());
+  arrays.Select(3, backAssociation, back->GetName());
   const bool hasExpression = this->SourceExpression && *this->SourceExpression;
   if (source || hasExpression)
   {
-    solver->SetEquationToPoisson();
+    settings.Equation = vtkWalkOnSpheresSolver::POISSON;
     if (source)
     {
-      solver->SetInputData(2, source);
       if (vtkInformation* info = this->GetInputArrayInformation(2))
       {
-        if (info->Has(vtkDataObject::FIELD_NAME()))
+        if (info->Has(vtkDataObject::FIELD_NAME()) && info->Get(vtkDataObject::FIELD_NAME()))
         {
-          solver->SetInputArrayToProcess(2, 2, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS,
+          arrays.Select(2, vtkDataObject::FIELD_ASSOCIATION_POINTS,
             info->Get(vtkDataObject::FIELD_NAME()));
         }
       }
     }
     if (hasExpression)
     {
-      solver->SetSourceExpression(this->SourceExpression);
+      settings.SourceExpression = this->SourceExpression;
     }
   }
   bool aborted = false;
-  if (!this->RunSolver(solver, 0.0, 1.0, aborted))
+  vtkSmartPointer<vtkDataSet> solved;
+  if (!this->Solve(settings, arrays, boundary, source, points, 0.0, 1.0, solved, aborted))
   {
     if (aborted)
     {
@@ -276,7 +276,6 @@ int vtkWalkOnSpheresDiffusionCurves::RequestData(
     }
     return 0;
   }
-  vtkDataSet* solved = solver->GetOutput();
   output->ShallowCopy(solved);
   const std::string name = front->GetName();
   vtkDataArray* colour = output->GetPointData()->GetArray(name.c_str());

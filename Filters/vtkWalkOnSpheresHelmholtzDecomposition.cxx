@@ -13,7 +13,9 @@
 #include "vtkPolyData.h"
 #include "vtkProbeFilter.h"
 #include "vtkSmartPointer.h"
-#include "vtkWalkOnSpheresSolver.h"
+#include "GridFreeArraySelection.h"
+#include "GridFreeSolveSettings.h"
+#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <cstdint>
 #include <string>
@@ -156,29 +158,25 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
   // One Poisson solve per potential; `operation` makes its source ∇·X or ∇×X.
   auto solve = [&](const char* potential, int operation, int seed, double begin, double end,
                  vtkSmartPointer<vtkDataSet>& result) {
-    vtkNew<vtkWalkOnSpheresSolver> solver;
-    this->ConfigureSolver(solver);
-    solver->SetSeed(seed);
-    solver->SetInputData(0, zeroBoundary);
-    solver->SetInputData(1, probe);
-    solver->SetInputArrayToProcess(
-      0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, potential);
+    gridfree::SolveSettings settings = this->SamplingSettings();
+    settings.Seed = seed;
+    settings.Equation = vtkWalkOnSpheresSolver::POISSON;
+    settings.SourceOperator = operation;
+    settings.ComputeGradient = true;
+    settings.ControlVariates = this->ControlVariates;
+    gridfree::ArraySelections arrays;
+    arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, potential);
     if (fieldArray)
     {
-      solver->SetInputData(2, field);
-      solver->SetInputArrayToProcess(
-        2, 2, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, fieldArray->GetName());
+      arrays.Select(2, vtkDataObject::FIELD_ASSOCIATION_POINTS, fieldArray->GetName());
     }
-    else
+    else if (this->FieldExpression)
     {
-      solver->SetSourceExpression(this->FieldExpression);
+      settings.SourceExpression = this->FieldExpression;
     }
-    solver->SetEquationToPoisson();
-    solver->SetSourceOperator(operation);
-    solver->ComputeGradientOn();
-    solver->SetControlVariates(this->ControlVariates);
     bool aborted = false;
-    if (!this->RunSolver(solver, begin, end, aborted))
+    if (!this->Solve(settings, arrays, zeroBoundary, fieldArray ? field : nullptr, probe, begin,
+          end, result, aborted))
     {
       if (aborted)
       {
@@ -186,7 +184,6 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
       }
       return false;
     }
-    result = solver->GetOutput();
     return true;
   };
   vtkSmartPointer<vtkDataSet> scalarSolve, vectorSolve;

@@ -1,9 +1,12 @@
 #include "vtkWalkOnSpheresProbeAlgorithm.h"
 
+#include "GridFreeArraySelection.h"
 #include "GridFreeArrays.h"
-#include "GridFreeMessageCollector.h"
+#include "GridFreePointEstimates.h"
+#include "GridFreeProblemBuilder.h"
+#include "GridFreeSolveSettings.h"
 #include "GridFreeWholeInputRequest.h"
-#include "vtkCallbackCommand.h"
+#include "vtkCellData.h"
 #include "vtkDataObject.h"
 #include "vtkDataObjectTypes.h"
 #include "vtkDataSet.h"
@@ -11,8 +14,14 @@
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkWalkOnSpheresSolver.h"
+
+#include <algorithm>
+#include <array>
+#include <exception>
+#include <string>
+#include <vector>
 
 vtkWalkOnSpheresProbeAlgorithm::vtkWalkOnSpheresProbeAlgorithm()
 {
@@ -145,69 +154,76 @@ int vtkWalkOnSpheresProbeAlgorithm::RequestUpdateExtent(
   return 1;
 }
 
-void vtkWalkOnSpheresProbeAlgorithm::ConfigureSolver(vtkWalkOnSpheresSolver* solver)
+gridfree::SolveSettings vtkWalkOnSpheresProbeAlgorithm::SamplingSettings() const
 {
-  solver->SetWalksPerPoint(this->WalksPerPoint);
-  solver->SetEpsilon(this->Epsilon);
-  solver->SetEpsilonIsRelative(this->EpsilonIsRelative);
-  solver->SetMaxSteps(this->MaxSteps);
-  solver->SetSeed(this->Seed);
-  solver->SetNumberOfThreads(this->NumberOfThreads);
+  gridfree::SolveSettings settings;
+  settings.WalksPerPoint = this->WalksPerPoint;
+  settings.Epsilon = this->Epsilon;
+  settings.EpsilonIsRelative = this->EpsilonIsRelative;
+  settings.MaxSteps = this->MaxSteps;
+  settings.Seed = this->Seed;
+  settings.NumberOfThreads = this->NumberOfThreads;
+  return settings;
 }
 
-namespace
+bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settings,
+  const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
+  vtkDataSet* probe, double begin, double end, vtkSmartPointer<vtkDataSet>& result,
+  bool& aborted)
 {
-// Relays an internal solver's progress into a range of the owner's, and the
-// owner's abort into the solver (which checks it at every progress report).
-struct ProgressRelay
-{
-  vtkWalkOnSpheresProbeAlgorithm* Owner;
-  vtkWalkOnSpheresSolver* Solver;
-  double Begin, End;
-  bool Aborted = false;
-
-  static void Callback(vtkObject*, unsigned long, void* clientData, void* callData)
+  aborted = false;
+  gridfree::ProblemBuilder builder;
+  gridfree::ProblemData data;
+  data.Boundary = boundary;
+  data.BoundaryPiece = boundary;
+  data.Source = source;
+  data.Region = probe;
+  gridfree::BuiltProblem problem;
+  if (!builder.Build(this, settings, arrays, data, problem))
   {
-    auto* relay = static_cast<ProgressRelay*>(clientData);
-    const double fraction = callData ? *static_cast<double*>(callData) : 0.0;
-    relay->Owner->UpdateProgress(relay->Begin + (relay->End - relay->Begin) * fraction);
-    if (relay->Owner->CheckAbort())
-    {
-      relay->Aborted = true;
-      relay->Solver->SetAbortExecute(1);
-    }
+    return false;
   }
-};
-} // namespace
 
-bool vtkWalkOnSpheresProbeAlgorithm::RunSolver(
-  vtkWalkOnSpheresSolver* solver, double begin, double end, bool& aborted)
-{
-  ProgressRelay relay{ this, solver, begin, end };
-  vtkNew<vtkCallbackCommand> progress;
-  progress->SetCallback(&ProgressRelay::Callback);
-  progress->SetClientData(&relay);
-  vtkNew<gridfree::MessageCollector> errors, warnings;
-  const unsigned long progressTag = solver->AddObserver(vtkCommand::ProgressEvent, progress);
-  const unsigned long errorTag = solver->AddObserver(vtkCommand::ErrorEvent, errors);
-  const unsigned long warningTag = solver->AddObserver(vtkCommand::WarningEvent, warnings);
-  solver->Update();
-  solver->RemoveObserver(progressTag);
-  solver->RemoveObserver(errorTag);
-  solver->RemoveObserver(warningTag);
-
-  this->LastNumberOfWalks += solver->GetLastNumberOfWalks();
-  this->LastSolveSeconds += solver->GetLastSolveSeconds();
-  for (const std::string& message : warnings->Messages)
+  // The probe with the solution arrays, as vtkWalkOnSpheresSolver's output.
+  result.TakeReference(probe->NewInstance());
+  result->CopyStructure(probe);
+  result->GetPointData()->PassData(probe->GetPointData());
+  result->GetCellData()->PassData(probe->GetCellData());
+  result->GetFieldData()->PassData(probe->GetFieldData());
+  std::vector<std::array<double, 3>> points(static_cast<std::size_t>(probe->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < probe->GetNumberOfPoints(); ++i)
+  {
+    probe->GetPoint(i, points[static_cast<std::size_t>(i)].data());
+  }
+  std::vector<std::string> warnings;
+  gridfree::PointEstimateRun run;
+  run.ProgressBegin = begin;
+  run.ProgressEnd = end;
+  run.Warn = [&warnings](const std::string& text) {
+    if (std::find(warnings.begin(), warnings.end(), text) == warnings.end())
+    {
+      warnings.push_back(text);
+    }
+  };
+  gridfree::PointEstimateSummary summary;
+  bool completed = false;
+  try
+  {
+    completed = gridfree::EstimateAtPoints(this, problem, settings, points,
+      result->GetPointData(), result->GetFieldData(), run, summary);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Walk on spheres failed: " << e.what());
+    return false;
+  }
+  this->LastNumberOfWalks += static_cast<vtkIdType>(summary.WalksRun);
+  this->LastSolveSeconds += summary.Seconds;
+  for (const std::string& message : warnings)
   {
     vtkWarningMacro(<< message);
   }
-  aborted = relay.Aborted || this->CheckAbort();
-  if (!errors->Text.empty())
-  {
-    vtkErrorMacro(<< errors->Text);
-    return false;
-  }
+  aborted = !completed || this->CheckAbort();
   return !aborted;
 }
 

@@ -11,9 +11,9 @@
  * Further inputs and outputs belong to the subclass.
  *
  * The sampling settings here (walks, ε, steps, seed, threads) configure the
- * internal vtkWalkOnSpheresSolver runs the subclass makes; each run is a new
- * solver, so the filter's modification time is its own. Progress of the runs
- * is reported as this filter's, and aborting this filter aborts them.
+ * solves the subclass makes: each builds its problem and asks it at the
+ * probe's points directly, with no internal pipeline. Progress of the
+ * solves is reported as this filter's, and aborting this filter aborts them.
  *
  * @sa vtkWalkOnSpheresSolver vtkWalkOnSpheresHelmholtzDecomposition
  */
@@ -22,12 +22,18 @@
 
 #include "vtkDataSetAlgorithm.h"
 #include "GridFreeFiltersModule.h" // for export macro
+#include "vtkSmartPointer.h"         // for vtkSmartPointer
 
 #include <string>
 
 class vtkAlgorithmOutput;
 class vtkDataObject;
-class vtkWalkOnSpheresSolver;
+class vtkDataSet;
+namespace gridfree
+{
+struct ArraySelections;
+struct SolveSettings;
+}
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresProbeAlgorithm : public vtkDataSetAlgorithm
 {
@@ -116,15 +122,21 @@ protected:
   // The probe is split as output 0 is; every other input is needed whole.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // Copies the sampling settings to `solver`.
-  void ConfigureSolver(vtkWalkOnSpheresSolver* solver);
+  // A settings struct with this filter's sampling settings (walks, ε,
+  // steps, seed, threads) and the solver's defaults for everything else.
+  gridfree::SolveSettings SamplingSettings() const;
 
-  // Updates `solver`, reporting its progress as [begin, end] of this
-  // filter's and passing this filter's abort on. Adds its walks and seconds
-  // to the Last... counters (the subclass resets them). Returns false, after reporting the solver's errors as this filter's,
-  // when it failed or was aborted (`aborted` tells which). Its warnings are
-  // reported once each.
-  bool RunSolver(vtkWalkOnSpheresSolver* solver, double begin, double end, bool& aborted);
+  // One solve for the subclass, with no internal pipeline: the problem of
+  // `boundary` (its arrays chosen by `arrays`) and the optional `source`
+  // with `settings`, estimated at `probe`'s points. `result` becomes a copy
+  // of the probe with the solution arrays, named as vtkWalkOnSpheresSolver's
+  // output. Progress is reported as [begin, end] of this filter's; walks and
+  // seconds are added to the Last... counters (the subclass resets them);
+  // each distinct warning is reported once. False after an error (reported
+  // as this filter's) or when aborted (`aborted` tells which).
+  bool Solve(const gridfree::SolveSettings& settings, const gridfree::ArraySelections& arrays,
+    vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* probe, double begin, double end,
+    vtkSmartPointer<vtkDataSet>& result, bool& aborted);
 
   // Adds the Last... counters to `output`'s field data (TotalWalks,
   // SolveSeconds).

@@ -127,8 +127,12 @@ class vtkDataSet;
 class vtkImplicitFunction;
 class vtkPolyData;
 struct vtkWalkOnSpheresSolverCache;
-struct vtkWalkOnSpheresSolverInputs;
 struct vtkWalkOnSpheresSolverPieces;
+namespace gridfree
+{
+class ProblemBuilder;
+struct SolveSettings;
+}
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
 {
@@ -533,10 +537,6 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // The numeric array chosen as input array `index` (see the .cxx).
-  vtkDataArray* ResolveArray(
-    int index, vtkDataSet* data, bool fallback, int& association, std::string& missing);
-
   /**
    * The Boundary and Source inputs the solve uses, from `boundary` and
    * `source` as this rank received them. Here they are used as they are;
@@ -591,23 +591,18 @@ private:
   vtkWalkOnSpheresSolver(const vtkWalkOnSpheresSolver&) = delete;
   void operator=(const vtkWalkOnSpheresSolver&) = delete;
 
-  // The running sums kept for progressive refinement and the last boundary
-  // built, with what they were computed from.
+  // The running sums kept for progressive refinement, with what they were
+  // computed from.
   std::unique_ptr<vtkWalkOnSpheresSolverCache> Cache;
   // Modified by every change except one of WalksPerPoint alone.
   vtkTimeStamp SettingsTime;
   bool ChangingOnlyWalks = false;
 
-  // What the core boundary is built from: the Boundary input's piece (and
-  // the signature of the gathered pieces), the implicit boundary, and the
-  // properties that shape the boundary; with `regionProbe`, its bounds.
-  std::vector<std::uint64_t> BoundaryKey(vtkDataObject* boundaryPiece, std::uint64_t gathered,
-    int dimension, const vtkWalkOnSpheresSolverInputs& in, vtkDataSet* regionProbe);
+  // Builds the problem from the inputs and keeps its boundary.
+  std::unique_ptr<gridfree::ProblemBuilder> Builder;
 
-  template <int DIM>
-  friend class vtkWalkOnSpheresSolverRunner;
-  friend struct vtkWalkOnSpheresSolverInputs;
-  friend class vtkWalkOnSpheresSolverBoundaryValues;
+  // Every setting of the solve, from the properties.
+  gridfree::SolveSettings CurrentSettings() const;
 };
 
 #endif

@@ -1,15 +1,18 @@
 /**
  * @class   vtkWalkOnSpheresSolverDriver
- * @brief   Base of filters that run an internal vtkWalkOnSpheresSolver on
- *          points they choose themselves (the stream tracer's integrator
- *          points, the adaptive sampler's samples).
+ * @brief   Base of filters that estimate the solution at points they choose
+ *          themselves (the stream tracer's integrator points, the adaptive
+ *          sampler's samples).
  *
- * Input 0 ("Boundary") and input 2 ("Source", optional) are handed to the
- * solver as they are; input 1 is the subclass's own (seeds, candidate
- * points). The solver's boundary array is the one selected on this filter
- * with SetInputArrayToProcess(0, ...) (and 1, 2 for the biharmonic and
- * source arrays). GetSolver() configures everything else; the most used
- * settings have shortcuts here, for ParaView's panels. Every input is
+ * Input 0 ("Boundary") and input 2 ("Source", optional) are those of
+ * vtkWalkOnSpheresSolver; input 1 is the subclass's own (seeds, candidate
+ * points). The boundary array is the one selected on this filter with
+ * SetInputArrayToProcess(0, ...) (and 1, 2 for the biharmonic Laplacian and
+ * the source array). The problem (boundary, hierarchy, values, sources) is
+ * built once per execution and then asked directly for the value and the
+ * gradient at each batch of points, with no internal pipeline; the boundary
+ * is kept between executions while the Boundary input, the implicit
+ * boundary and the boundary settings are unchanged. Every input is
  * requested whole.
  *
  * @sa vtkWalkOnSpheresStreamTracer vtkWalkOnSpheresAdaptiveSampler
@@ -20,9 +23,15 @@
 #include "GridFreeFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <array>   // for std::array
+#include <memory>  // for std::unique_ptr
+#include <vector>  // for std::vector
+
 class vtkAlgorithmOutput;
 class vtkDataObject;
-class vtkWalkOnSpheresSolver;
+class vtkDataSet;
+class vtkImplicitFunction;
+class vtkPointData;
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolverDriver : public vtkPolyDataAlgorithm
 {
@@ -32,7 +41,7 @@ public:
 
   ///@{
   /**
-   * The solver's inputs: Boundary (port 0) and Source (port 2).
+   * The Boundary (port 0) and Source (port 2) inputs.
    */
   void SetBoundaryConnection(vtkAlgorithmOutput* output);
   void SetBoundaryData(vtkDataObject* data);
@@ -40,28 +49,90 @@ public:
   void SetSourceData(vtkDataObject* data);
   ///@}
 
+  ///@{
   /**
-   * The internal solver. Set its equation, walks, epsilon, seed, threads,
-   * implicit boundary... here; its inputs and gradient settings are managed
-   * by the filter.
+   * The equation (vtkWalkOnSpheresSolver::EquationType: Laplace 0, Poisson
+   * 1, screened Poisson 2, biharmonic 3; default Laplace) and its screening
+   * coefficient c > 0 (default 1).
    */
-  vtkWalkOnSpheresSolver* GetSolver() { return this->Solver; }
+  void SetEquation(int equation);
+  int GetEquation();
+  void SetScreeningCoefficient(double c);
+  double GetScreeningCoefficient();
+  ///@}
+
+  /**
+   * The source term f as an expression in x, y, z (Poisson and screened
+   * Poisson), added to the Source input's.
+   */
+  void SetSourceExpression(const char* expression);
+
+  /**
+   * An implicit boundary instead of (or with values from) the Boundary
+   * input; see vtkWalkOnSpheresSolver::SetImplicitBoundary.
+   */
+  void SetImplicitBoundary(vtkImplicitFunction* function);
+  vtkImplicitFunction* GetImplicitBoundary();
+  ///@{
+  /**
+   * The rest of the boundary and equation settings, as
+   * vtkWalkOnSpheresSolver's properties of the same names: boundary values
+   * (and the biharmonic h) as expressions in x, y, z; the implicit
+   * function's LipschitzBound; CsgOperation and CsgBlendRadius for a
+   * composite Boundary; TwoSidedBoundaryValues (the back side's array is
+   * input array 3); SourceSampling; BiharmonicStrategy and NestedWalks.
+   */
+  void SetBoundaryValueExpression(const char* expression);
+  void SetBoundaryLaplacianExpression(const char* expression);
+  void SetLipschitzBound(double bound);
+  double GetLipschitzBound();
+  void SetCsgOperation(int operation);
+  int GetCsgOperation();
+  void SetCsgBlendRadius(double radius);
+  double GetCsgBlendRadius();
+  void SetTwoSidedBoundaryValues(bool twoSided);
+  bool GetTwoSidedBoundaryValues();
+  void SetSourceSampling(int sampling);
+  int GetSourceSampling();
+  void SetBiharmonicStrategy(int strategy);
+  int GetBiharmonicStrategy();
+  void SetNestedWalks(int walks);
+  int GetNestedWalks();
+  ///@}
 
   ///@{
   /**
-   * Shortcuts to the internal solver's most used settings.
+   * The sampling settings (those of vtkWalkOnSpheresSolver): walks per
+   * point (at least 2), Epsilon (relative to the boundary's diagonal unless
+   * EpsilonIsRelative is off), MaxSteps, Seed, NumberOfThreads (0: all),
+   * ControlVariates for the gradient (default on).
    */
   void SetWalksPerPoint(int walks);
   int GetWalksPerPoint();
   void SetEpsilon(double epsilon);
   double GetEpsilon();
+  void SetEpsilonIsRelative(bool relative);
+  bool GetEpsilonIsRelative();
+  void SetMaxSteps(int steps);
+  int GetMaxSteps();
   void SetSeed(int seed);
   int GetSeed();
   void SetNumberOfThreads(int threads);
   int GetNumberOfThreads();
-  void SetEquation(int equation);
-  int GetEquation();
+  void SetControlVariates(bool on);
+  bool GetControlVariates();
   ///@}
+
+  /**
+   * Whether the last execution built the boundary (its hierarchy and
+   * values); false when it reused the one kept from the execution before.
+   */
+  bool GetLastBoundaryBuilt();
+
+  /**
+   * Includes the implicit boundary's MTime.
+   */
+  vtkMTimeType GetMTime() override;
 
 protected:
   vtkWalkOnSpheresSolverDriver();
@@ -70,19 +141,34 @@ protected:
   static constexpr int BoundaryPort = 0;
   static constexpr int SourcePort = 2;
 
-  vtkMTimeType GetMTime() override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // Hands the Boundary and Source inputs and this filter's array selections
-  // to the solver, and turns its gradient on.
-  void ConnectSolver(vtkDataObject* boundary, vtkDataObject* source);
+  // Builds the problem of the Boundary and Source inputs and this filter's
+  // array selections and settings (reusing the kept boundary when it can);
+  // an implicit boundary lives around `region`. False after an error.
+  bool BuildProblem(vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* region);
 
-  vtkWalkOnSpheresSolver* Solver; // owned
+  // Estimates the value and gradient at `points` with the built problem
+  // and adds the arrays (named as vtkWalkOnSpheresSolver's output) to
+  // `arrays`; progress stays at `progress`. Walks and seconds are added to
+  // `walks` and `seconds`. False when aborted.
+  bool EstimateAt(const std::vector<std::array<double, 3>>& points, vtkPointData* arrays,
+    double progress, double& seconds, vtkIdType& walks);
+
+  // The name of the solution arrays of the built problem, and its components.
+  const char* GetSolutionName();
+  int GetSolutionComponents();
+
+  // Reports each distinct warning of the estimates once, as this filter's.
+  void ReportWarnings();
 
 private:
   vtkWalkOnSpheresSolverDriver(const vtkWalkOnSpheresSolverDriver&) = delete;
   void operator=(const vtkWalkOnSpheresSolverDriver&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 #endif

@@ -1,8 +1,6 @@
 #include "vtkWalkOnSpheresStreamTracer.h"
 
-#include "vtkWalkOnSpheresSolver.h"
-
-#include "GridFreeMessageCollector.h"
+#include "GridFreeArrays.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -12,6 +10,7 @@
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -87,7 +86,7 @@ Point Advance(const Point& x, double h, const Point& d)
 vtkWalkOnSpheresStreamTracer::vtkWalkOnSpheresStreamTracer()
 {
   // A line's noise does not average out along it: many walks by default.
-  this->Solver->SetWalksPerPoint(1024);
+  this->SetWalksPerPoint(1024);
 }
 
 void vtkWalkOnSpheresStreamTracer::SetSeedsConnection(vtkAlgorithmOutput* output)
@@ -156,48 +155,24 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     return true;
   };
 
-  // The solver: this filter's inputs and array selections, gradients on.
-  this->ConnectSolver(boundary, source);
-  vtkWalkOnSpheresSolver* solver = this->Solver;
-  vtkNew<gridfree::MessageCollector> errors, warnings;
-  const unsigned long observer = solver->AddObserver(vtkCommand::ErrorEvent, errors);
-  // The solver runs at every stage: its warnings are reported once, below.
-  const unsigned long warningObserver = solver->AddObserver(vtkCommand::WarningEvent, warnings);
-  auto detach = [&]() {
-    solver->RemoveObserver(observer);
-    solver->RemoveObserver(warningObserver);
-  };
-  vtkNew<vtkPolyData> probe;
+  // The problem, built once for all the lines (an implicit boundary lives
+  // around the seeds).
+  if (!this->BuildProblem(boundary, source, seeds))
+  {
+    return 0;
+  }
+  const std::string valueName = this->GetSolutionName();
+  double progress = 0.0;
+  double seconds = 0.0;
+  vtkIdType walks = 0;
 
-  // Estimates at `points` (one solver run for all of them); false on error.
-  std::string valueName;
+  // Estimates at `points` (one batch for all of them); false when aborted.
   auto estimate = [&](const std::vector<Point>& points, std::vector<Estimate>& out) {
-    vtkNew<vtkPoints> coordinates;
-    coordinates->SetDataTypeToDouble();
-    coordinates->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      coordinates->SetPoint(static_cast<vtkIdType>(i), points[i].data());
-    }
-    probe->Initialize();
-    probe->SetPoints(coordinates);
-    solver->SetInputData(1, probe);
-    solver->Modified(); // the probe object is reused: its points changed
-    solver->Update();
+    vtkNew<vtkPointData> pd;
+    const bool completed = this->EstimateAt(points, pd, progress, seconds, walks);
     this->LastNumberOfEstimates += static_cast<vtkIdType>(points.size());
-    vtkDataSet* result = solver->GetOutput();
-    vtkPointData* pd = result ? result->GetPointData() : nullptr;
-    vtkDataArray* value = pd ? pd->GetScalars() : nullptr;
-    if (!errors->Text.empty() || !value)
-    {
-      return false;
-    }
-    valueName = value->GetName() ? value->GetName() : "Solution";
+    vtkDataArray* value = pd->GetArray(valueName.c_str());
     vtkDataArray* gradient = pd->GetArray((valueName + "_Gradient").c_str());
-    if (!gradient)
-    {
-      return false;
-    }
     vtkDataArray* valueVariance = pd->GetArray((valueName + "_Variance").c_str());
     vtkDataArray* gradientVariance = pd->GetArray((valueName + "_Gradient_Variance").c_str());
     vtkDataArray* status = pd->GetArray("DerivativeStatus");
@@ -208,17 +183,17 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
       const auto id = static_cast<vtkIdType>(i);
       Estimate& e = out[i];
       e.Value = value->GetComponent(id, 0);
-      e.ValueVariance = valueVariance ? valueVariance->GetComponent(id, 0) : 0.0;
+      e.ValueVariance = valueVariance->GetComponent(id, 0);
       for (int k = 0; k < 3; ++k)
       {
         e.Gradient[k] = gradient->GetComponent(id, k);
-        e.GradientVariance[k] = gradientVariance ? gradientVariance->GetComponent(id, k) : 0.0;
+        e.GradientVariance[k] = gradientVariance->GetComponent(id, k);
       }
-      e.NearBoundary = status && status->GetComponent(id, 0) != 0.0;
-      e.Distance = distance ? distance->GetComponent(id, 0) : VTK_DOUBLE_MAX;
+      e.NearBoundary = status->GetComponent(id, 0) != 0.0;
+      e.Distance = distance->GetComponent(id, 0);
       e.Valid = std::isfinite(e.Value);
     }
-    return true;
+    return completed;
   };
 
   // The lines: one per seed and direction, started at the seeds.
@@ -229,12 +204,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     seeds->GetPoint(s, seedPoints[static_cast<std::size_t>(s)].data());
   }
   std::vector<Estimate> seedEstimates;
-  if (!estimate(seedPoints, seedEstimates))
-  {
-    detach();
-    vtkErrorMacro(<< "The solver failed at the seeds: " << errors->Text);
-    return 0;
-  }
+  bool aborted = !estimate(seedPoints, seedEstimates);
   for (vtkIdType s = 0; s < seeds->GetNumberOfPoints(); ++s)
   {
     for (double sign : { 1.0, -1.0 })
@@ -290,8 +260,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   // Lockstep integration: each stage estimates at all running lines' stage
   // points in one solver run.
   const int stages = this->IntegratorType == RUNGE_KUTTA_4 ? 4 : 2;
-  bool aborted = false;
-  for (int step = 0; step < this->MaximumNumberOfSteps; ++step)
+  for (int step = 0; step < this->MaximumNumberOfSteps && !aborted; ++step)
   {
     std::vector<std::size_t> running;
     std::vector<std::array<Point, 4>> k(lines.size());
@@ -306,7 +275,8 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     {
       break;
     }
-    this->UpdateProgress(static_cast<double>(step) / this->MaximumNumberOfSteps);
+    progress = static_cast<double>(step) / this->MaximumNumberOfSteps;
+    this->UpdateProgress(progress);
     if (this->GetAbortExecute())
     {
       aborted = true;
@@ -324,12 +294,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
         where[r] = Advance(lines[l].Points.back(), factor * stepOf(lines[l]), k[l][stage - 1]);
       }
       std::vector<Estimate> at;
-      if (!estimate(where, at))
-      {
-        detach();
-        vtkErrorMacro(<< "The solver failed along the lines: " << errors->Text);
-        return 0;
-      }
+      aborted = !estimate(where, at) || aborted;
       for (std::size_t r = 0; r < running.size(); ++r)
       {
         const std::size_t l = running[r];
@@ -352,11 +317,10 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
       next[r] = Advance(lines[running[r]].Points.back(), stepOf(lines[running[r]]), direction);
     }
     std::vector<Estimate> atNext;
-    if (!estimate(next, atNext))
+    if (aborted || !estimate(next, atNext))
     {
-      detach();
-      vtkErrorMacro(<< "The solver failed along the lines: " << errors->Text);
-      return 0;
+      aborted = true;
+      break; // an aborted batch's points are NaN: the lines end before them
     }
     for (std::size_t r = 0; r < running.size(); ++r)
     {
@@ -369,7 +333,6 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
       line.Estimates.push_back(atNext[r]);
     }
   }
-  detach();
   for (Line& line : lines)
   {
     if (line.Reason == 0)
@@ -385,11 +348,10 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   {
     vtkWarningMacro(<< "Tracing aborted: the lines end where they were.");
   }
-  if (!warnings->Text.empty())
-  {
-    // Each distinct one once (every stage repeats the same ones).
-    vtkWarningMacro(<< "The solver warned: " << warnings->Text);
-  }
+  // Each distinct warning once (every stage repeats the same ones).
+  this->ReportWarnings();
+  gridfree::AddFieldValue(output->GetFieldData(), "TotalWalks", static_cast<double>(walks));
+  gridfree::AddFieldValue(output->GetFieldData(), "SolveSeconds", seconds);
 
   // Polylines with the estimates along them, as vtkStreamTracer's output.
   vtkNew<vtkPoints> points;

@@ -9,10 +9,11 @@
  * gradient direction of the solution u (∇u/|∇u|, or −∇u/|∇u| backward) with
  * a fixed step, by Heun's method (two gradient estimates per step) or the
  * classical Runge–Kutta method (four). The gradient is estimated only at the
- * integrator's points, all lines advancing together, by an internal
- * vtkWalkOnSpheresSolver (GetSolver() configures it: equation, walks,
- * epsilon, seed...; the boundary array is the one selected on this filter
- * with SetInputArrayToProcess(0, ...)).
+ * integrator's points, all lines advancing together: the problem is built
+ * once per execution (see vtkWalkOnSpheresSolverDriver for the equation,
+ * walks, epsilon, seed...; the boundary array is the one selected on this
+ * filter with SetInputArrayToProcess(0, ...)) and asked for each stage's
+ * points directly. An implicit boundary is built around the seeds.
  *
  * A step never leaves the empty ball around the line's point (it is at most
  * half the distance to the boundary, which the solver outputs as
@@ -24,7 +25,8 @@
  * vtkStreamTracer's: point data `T`, `T_Variance`, `T_Gradient` (active
  * vectors), `T_Gradient_Variance` (for a boundary array T) estimated at every
  * line point, and `IntegrationTime` (the arc length from the seed, negative
- * backward); cell data `SeedIds` and `ReasonForTermination`
+ * backward); cell data `SeedIds` and `ReasonForTermination`; field data
+ * `TotalWalks` and `SolveSeconds` over all the lines
  * (vtkStreamTracer's codes: OUT_OF_DOMAIN 1, STAGNATION 4 (below
  * TerminalSpeed), OUT_OF_LENGTH 2, OUT_OF_STEPS 3, plus CLOSE_TO_BOUNDARY 7).
  *
@@ -76,8 +78,7 @@ public:
   ///@{
   /**
    * The seeds (port 1). Boundary (port 0) and Source (port 2): see
-   * vtkWalkOnSpheresSolverDriver, which also holds the solver (GetSolver())
-   * and the shortcuts to its settings.
+   * vtkWalkOnSpheresSolverDriver, which also holds the solve's settings.
    */
   void SetSeedsConnection(vtkAlgorithmOutput* output);
   void SetSeedsData(vtkDataObject* data);

@@ -161,4 +161,5 @@ def test_bad_inputs_are_errors_not_crashes():
     sampler.SetDomainData(slice_plane(5))
     sampler.SetInputArrayToProcess(0, 0, 0, POINTS, "Missing")
     sampler.Update()
-    assert "solver failed" in catcher.error_text()
+    # Reported as the sampler's own error, with the cause.
+    assert "no point or cell array named 'Missing'" in catcher.error_text()

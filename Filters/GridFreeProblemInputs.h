@@ -1,8 +1,8 @@
-// What vtkWalkOnSpheresSolver::RequestData resolved from its inputs and
-// properties, handed to the boundary assembly and the runner.
+// What the problem builder resolved from a filter's inputs and settings,
+// handed to the boundary assembly and the source conversion.
 // Private to the GridFree::Filters module.
-#ifndef GridFreeSolverInputs_h
-#define GridFreeSolverInputs_h
+#ifndef GridFreeProblemInputs_h
+#define GridFreeProblemInputs_h
 
 #include "GridFreeCsgBoundary.h"
 #include "vtkSmartPointer.h"
@@ -17,7 +17,9 @@ class vtkDataSet;
 class vtkImplicitFunction;
 class vtkPolyData;
 
-struct vtkWalkOnSpheresSolverInputs
+namespace gridfree
+{
+struct ProblemInputs
 {
   vtkPolyData* Boundary = nullptr; // the mesh, or the value carrier of an implicit boundary
   vtkImplicitFunction* Implicit = nullptr;
@@ -36,11 +38,13 @@ struct vtkWalkOnSpheresSolverInputs
   vtkDataSet* Source = nullptr;
   vtkDataArray* SourceArray = nullptr;
   std::string Expression;
-  vtkDataSet* Probe = nullptr;
-  vtkDataSet* Output = nullptr;
+  // The points the problem is asked about: implicit and CSG boundaries are
+  // built in a region around them.
+  vtkDataSet* Region = nullptr;
   std::string Name;
-  // What the core boundary is built from (vtkWalkOnSpheresSolverCache).
+  // What the core boundary is built from (GridFreeProblemBuilder's cache).
   std::vector<std::uint64_t> BoundaryKey;
 };
+} // namespace gridfree
 
 #endif

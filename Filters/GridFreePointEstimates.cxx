@@ -1,0 +1,338 @@
+#include "GridFreePointEstimates.h"
+
+#include "GridFreeArrays.h"
+#include "GridFreeDerivativeArrays.h"
+#include "GridFreeProblemBuilder.h"
+#include "GridFreeSolveSettings.h"
+
+#include <gridfree/problem/Problem.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "vtkAlgorithm.h"
+#include "vtkPointData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkOutputWindow.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace gridfree
+{
+namespace
+{
+// A batch projected (after kRateSeconds of measuring) to take longer than
+// kLongSolveSeconds is announced with a warning.
+constexpr double kRateSeconds = 1.0;
+constexpr double kLongSolveSeconds = 120.0;
+
+// "3 minutes", "5 hours", "2 days": a projected solve time for a message.
+std::string DescribeDuration(double seconds)
+{
+  struct Unit
+  {
+    double Seconds;
+    const char* Name;
+  };
+  const Unit units[] = { { 86400.0 * 365.0, "years" }, { 86400.0, "days" }, { 3600.0, "hours" },
+    { 60.0, "minutes" } };
+  for (const Unit& u : units)
+  {
+    if (seconds >= 2.0 * u.Seconds)
+    {
+      std::ostringstream text;
+      text << static_cast<long long>(std::min(seconds / u.Seconds, 1e15) + 0.5) << " " << u.Name;
+      return text.str();
+    }
+  }
+  return std::to_string(static_cast<long long>(seconds + 0.5)) + " seconds";
+}
+
+// Hands a warning, written as VTK's macros take it, to the run's Warn.
+#define GRIDFREE_WARN(text)                                                                        \
+  do                                                                                               \
+  {                                                                                                \
+    std::ostringstream warning;                                                                    \
+    warning text;                                                                                  \
+    warn(warning.str());                                                                           \
+  } while (false)
+
+template <int DIM>
+bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
+  const std::vector<std::array<double, 3>>& points, vtkPointData* pd, vtkFieldData* fd,
+  const PointEstimateRun& run, PointEstimateSummary& result)
+{
+  const Problem<DIM>& problem = built.Get<DIM>();
+  const Boundary<DIM>& geometry = problem.GetBoundary();
+  const bool biharmonic = built.Biharmonic;
+  const int nc = built.Components;
+  const std::string& name = built.Name;
+  auto warn = [&run](const std::string& text)
+  {
+    if (run.Warn)
+    {
+      run.Warn(text);
+    }
+  };
+
+  const auto numPoints = static_cast<vtkIdType>(points.size());
+  vtkIdType nonFinitePoints = 0;
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    bool finite = true;
+    for (int k = 0; k < DIM; ++k)
+    {
+      finite = finite && std::isfinite(points[i][k]);
+    }
+    nonFinitePoints += finite ? 0 : 1;
+  }
+  if (nonFinitePoints > 0)
+  {
+    GRIDFREE_WARN(<< nonFinitePoints << " of " << numPoints
+                  << " probe points have NaN or infinite coordinates: their "
+                     "results are NaN.");
+  }
+
+  auto mean = MakeArray(name, nc, numPoints);
+  auto variance = MakeArray(name + "_Variance", nc, numPoints);
+  vtkSmartPointer<vtkDoubleArray> laplacian, laplacianVariance;
+  if (biharmonic)
+  {
+    laplacian = MakeArray(name + "_Laplacian", nc, numPoints);
+    laplacianVariance = MakeArray(name + "_Laplacian_Variance", nc, numPoints);
+  }
+  auto steps = MakeArray("WalkSteps", 1, numPoints);
+  auto escaped = MakeArray("EscapedFraction", 1, numPoints);
+  auto truncated = MakeArray("TruncatedFraction", 1, numPoints);
+  // The distance from each point to the boundary (a lower bound for an
+  // implicit boundary): where a walk starts, and how far a streamline may
+  // step without crossing the boundary.
+  auto distance = MakeArray("BoundaryDistance", 1, numPoints);
+  // The boundary value at the closest boundary point: what a walk started
+  // here would return if it ended at once. It is the "albedo" a denoiser is
+  // guided by (paper Sec. 5.2.4): the solution's sharp features follow its
+  // jumps, where the closest point switches between distant boundary parts.
+  auto closestValue = MakeArray(name + "_ClosestBoundaryValue", nc, numPoints);
+  tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, numPoints, 256),
+    [&](const tbb::blocked_range<vtkIdType>& range)
+    {
+      std::vector<double> g(static_cast<std::size_t>(geometry.Components()));
+      for (vtkIdType i = range.begin(); i < range.end(); ++i)
+      {
+        Vec<DIM> x;
+        if (ProbeStartPoint<DIM>(points[static_cast<std::size_t>(i)].data(), x))
+        {
+          distance->SetValue(i, geometry.Distance(x));
+          geometry.Evaluate(x, geometry.ClosestPoint(x), g.data());
+          for (int c = 0; c < nc; ++c)
+          {
+            closestValue->SetTypedComponent(i, c, g[static_cast<std::size_t>(c)]);
+          }
+        }
+      }
+    });
+
+  // Derivatives: the derivative estimator runs whenever a derivative or a
+  // control variate is asked for (the value's control needs the gradient).
+  DerivativeRequest request;
+  request.Gradient = s.ComputeGradient;
+  request.Hessian = s.ComputeHessian;
+  request.ControlVariates = s.ControlVariates;
+  request.Directional = s.ComputeDirectionalDerivative;
+  request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
+    s.DerivativeDirection[2] };
+  request.DivergenceCurl = s.ComputeGradient && nc == 3;
+  const bool anyDerivative = request.Gradient || request.Hessian || request.Directional;
+  DerivativeArrays derivatives;
+  if (anyDerivative)
+  {
+    derivatives.Allocate(name, nc, numPoints, request);
+  }
+
+  BatchRequest batch;
+  batch.WalksPerPoint = s.WalksPerPoint;
+  batch.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.Seed));
+  batch.Threads = s.NumberOfThreads;
+  batch.Derivatives = request;
+  const int walks = batch.WalksPerPoint;
+
+  // Progressive refinement: the batch continues from the running sums the
+  // caller kept (it forgot them if anything but WalksPerPoint changed) and
+  // keeps its own.
+
+  // Progress counts walks, so that a few points with very many walks each
+  // still report it; once the rate is known, a solve projected to take
+  // long is announced (abort stays possible: walks run in chunks that
+  // check for it).
+  bool announced = false;
+  auto reportProgress = [&](const BatchProgress& p)
+  {
+    if (!announced && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
+    {
+      announced = true;
+      const double projected = p.Seconds * p.WalksToRun / static_cast<double>(p.WalksRun);
+      if (projected >= kLongSolveSeconds)
+      {
+        GRIDFREE_WARN(<< "This solve will take about " << DescribeDuration(projected)
+                      << " at the current rate (" << numPoints << " points, " << walks
+                      << " walks per point): lower WalksPerPoint or the "
+                         "probe's resolution, or abort it.");
+      }
+    }
+    self->UpdateProgress(run.ProgressBegin + (run.ProgressEnd - run.ProgressBegin) * p.Fraction);
+    return !self->GetAbortExecute();
+  };
+
+  // Copies one finished point's statistics to the output arrays (called
+  // for distinct points at once from worker threads).
+  const SampleLayout layout = problem.Layout(batch);
+  auto storePoint = [&](std::size_t at, const RunningStatistics& stats,
+                      const WalkCounters& counters, DerivativeStatus status)
+  {
+    const auto i = static_cast<vtkIdType>(at);
+    for (int c = 0; c < nc; ++c)
+    {
+      mean->SetValue(i * nc + c, stats.GetMean(layout.Value + c));
+      variance->SetValue(i * nc + c, stats.VarianceOfMean(layout.Value + c));
+      if (biharmonic)
+      {
+        laplacian->SetValue(i * nc + c, stats.GetMean(layout.Laplacian + c));
+        laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(layout.Laplacian + c));
+      }
+    }
+    steps->SetValue(i, counters.MeanSteps());
+    escaped->SetValue(i, counters.EscapedFraction());
+    truncated->SetValue(i, counters.TruncatedFraction());
+    if (anyDerivative)
+    {
+      derivatives.Store<DIM>(at, stats, layout, nc, static_cast<int>(status));
+    }
+  };
+
+  const BatchSummary summary =
+    problem.Estimate(points, batch, storePoint, reportProgress, run.Kept);
+  const bool completed = summary.Completed;
+  const WalkCounters& totals = summary.Totals;
+  const std::array<std::uint64_t, 3>& statusCounts = summary.StatusCounts;
+  const bool unboundedSource = summary.UnboundedSource;
+  const int startWalks = summary.ResumedWalksPerPoint;
+  result.ResumedWalksPerPoint = startWalks;
+  const double seconds = summary.Seconds;
+
+  // Walks run now; the output stands for totals.Walks (kept ones included).
+  result.WalksRun = summary.WalksRun;
+  result.Seconds = seconds;
+  result.Completed = completed;
+
+  pd->AddArray(mean);
+  pd->AddArray(variance);
+  if (biharmonic)
+  {
+    pd->AddArray(laplacian);
+    pd->AddArray(laplacianVariance);
+  }
+  pd->AddArray(steps);
+  pd->AddArray(escaped);
+  pd->AddArray(truncated);
+  pd->AddArray(distance);
+  pd->AddArray(closestValue);
+  pd->SetActiveScalars(mean->GetName());
+  if (anyDerivative)
+  {
+    derivatives.AddTo(pd, nc);
+  }
+
+  const double walkCount = static_cast<double>(totals.Walks);
+  const double walksPerSecond = seconds > 0.0 ? walkCount / seconds : 0.0;
+  const double meanSteps = walkCount > 0.0 ? static_cast<double>(totals.Steps) / walkCount : 0.0;
+  const double escapedFraction =
+    walkCount > 0.0 ? static_cast<double>(totals.Escaped) / walkCount : 0.0;
+  if (fd)
+  {
+    AddFieldValue(fd, "TotalWalks", static_cast<double>(totals.Walks));
+    AddFieldValue(fd, "TotalSteps", static_cast<double>(totals.Steps));
+    AddFieldValue(fd, "EscapedWalks", static_cast<double>(totals.Escaped));
+    AddFieldValue(fd, "TruncatedWalks", static_cast<double>(totals.Truncated));
+    AddFieldValue(fd, "SolveSeconds", seconds);
+    // Progressive refinement: walks per point taken from the kept sums.
+    AddFieldValue(fd, "ResumedWalksPerPoint", static_cast<double>(startWalks));
+    // The run's summary, ready to read in a spreadsheet view or a script.
+    AddFieldValue(fd, "ProbePoints", static_cast<double>(numPoints));
+    AddFieldValue(fd, "WalksPerSecond", walksPerSecond);
+    AddFieldValue(fd, "MeanStepsPerWalk", meanSteps);
+    AddFieldValue(fd, "EscapedWalkFraction", escapedFraction);
+  }
+  // Debug level: shown in ParaView's Output Messages when the filter's
+  // Debug property (advanced) is on, and by vtkObject::DebugOn elsewhere.
+  // Not vtkDebugWithObjectMacro: release builds (NDEBUG) compile it out.
+  if (self->GetDebug() && vtkObject::GetGlobalWarningDisplay())
+  {
+    std::ostringstream msg;
+    msg << self->GetObjectDescription() << ": summary: " << numPoints << " probe points, "
+        << totals.Walks << " walks, " << seconds << " s, " << walksPerSecond << " walks/s, "
+        << meanSteps << " steps per walk, escaped fraction " << escapedFraction;
+    vtkOutputWindowDisplayDebugText(
+      "GridFreePointEstimates.cxx", __LINE__, msg.str().c_str(), self);
+  }
+
+  if (!completed)
+  {
+    GRIDFREE_WARN(<< "Solve aborted: points not reached are NaN.");
+    return false;
+  }
+  // NaN results of finite probe points: walks whose coordinates overflowed
+  // (points far beyond the boundary's scale) end with no boundary value.
+  vtkIdType nanResults = -nonFinitePoints;
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    nanResults += std::isnan(mean->GetValue(i * nc)) ? 1 : 0;
+  }
+  if (nanResults > 0)
+  {
+    GRIDFREE_WARN(<< nanResults << " of " << numPoints
+                  << " probe points got NaN results: their walks overflowed "
+                     "(coordinates far beyond the boundary's size?).");
+  }
+  if (totals.Escaped > 0 && biharmonic)
+  {
+    GRIDFREE_WARN(<< totals.Escaped << " of " << totals.Walks
+                  << " biharmonic walks left the region enclosed by the "
+                     "boundary and were counted as 0 (see EscapedFraction): "
+                     "the biharmonic solver is for bounded domains.");
+  }
+  if (unboundedSource && (totals.Escaped > 0 || totals.Returns > 0))
+  {
+    GRIDFREE_WARN(<< "Walks reached the exterior region, where the "
+                     "SourceExpression is taken as zero beyond a sphere "
+                     "around the boundary and the Source input.");
+  }
+  if (anyDerivative && (statusCounts[1] > 0 || statusCounts[2] > 0))
+  {
+    vtkDebugWithObjectMacro(self, << statusCounts[1] << " probe points lie closer than Epsilon "
+                                  << "to the boundary and got one-sided derivatives; "
+                                  << statusCounts[2] << " got none (see DerivativeStatus).");
+  }
+  if (totals.Truncated > 0)
+  {
+    GRIDFREE_WARN(<< totals.Truncated << " of " << totals.Walks << " walks reached MaxSteps = "
+                  << s.MaxSteps << " and were stopped (see TruncatedFraction).");
+  }
+  return true;
+}
+} // namespace
+
+bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
+  const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
+  vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
+  PointEstimateSummary& summary)
+{
+  summary = PointEstimateSummary();
+  return problem.Dimension == 2
+    ? Estimate<2>(reporter, problem, settings, points, arrays, fieldData, run, summary)
+    : Estimate<3>(reporter, problem, settings, points, arrays, fieldData, run, summary);
+}
+} // namespace gridfree

@@ -1,0 +1,61 @@
+// Asks a built problem (GridFreeProblemBuilder) for its estimates at a list
+// of points and lays them out as VTK arrays, named as the solver's output:
+// `T`, `T_Variance` (and the biharmonic `T_Laplacian`), the walk counters,
+// `BoundaryDistance`, `T_ClosestBoundaryValue` and the derivative arrays,
+// with the run's summary in field data. vtkWalkOnSpheresSolver fills its
+// output with it; the stream tracer, the adaptive sampler and the
+// application filters call it on the points they choose, with no internal
+// pipeline. Progress is reported and abort checked on `reporter`.
+// Private to the GridFree::Filters module.
+#ifndef GridFreePointEstimates_h
+#define GridFreePointEstimates_h
+
+#include "vtkType.h"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkPointData;
+class vtkFieldData;
+
+namespace gridfree
+{
+class RunningSumsCache;
+struct BuiltProblem;
+struct SolveSettings;
+
+struct PointEstimateRun
+{
+  // Progress of this batch as the part [begin, end] of the reporter's.
+  double ProgressBegin = 0.0;
+  double ProgressEnd = 1.0;
+  // Running sums to continue from and keep (progressive refinement); null
+  // for a fresh batch.
+  RunningSumsCache* Kept = nullptr;
+  // Receives each warning (the solver reports it at once; filters that run
+  // many batches report each distinct one once).
+  std::function<void(const std::string&)> Warn;
+};
+
+struct PointEstimateSummary
+{
+  bool Completed = false; // false when aborted
+  std::uint64_t WalksRun = 0;
+  double Seconds = 0.0;
+  int ResumedWalksPerPoint = 0;
+};
+
+// Estimates at `points` with `settings`' walks, seed, threads and
+// derivatives, and adds the arrays to `arrays` (and the summary to
+// `fieldData`, unless null). False when aborted.
+bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
+  const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
+  vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
+  PointEstimateSummary& summary);
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,468 @@
+#include "GridFreeProblemBuilder.h"
+
+#include "GridFreeBoundaryAssembly.h"
+#include "GridFreeBoundaryValueArrays.h"
+#include "GridFreeInputFingerprint.h"
+#include "GridFreeProblemInputs.h"
+#include "GridFreeSourceConversion.h"
+#include "vtkWalkOnSpheresSolver.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkImplicitFunction.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <string>
+#include <vector>
+
+namespace gridfree
+{
+struct ProblemBuilder::Internals
+{
+  // What the last Resolve found.
+  SolveSettings Settings;
+  ProblemInputs Inputs;
+  int Dimension = 3;
+  vtkSmartPointer<vtkDataArray> Values;        // g (and h, or the back's g)
+  vtkSmartPointer<vtkPolyData> MergedBoundary; // the blocks of a composite, as one soup
+  bool Resolved = false;
+
+  // The last boundary built and what it was built from.
+  std::vector<std::uint64_t> BoundaryKey;
+  std::shared_ptr<const Boundary<2>> Boundary2;
+  std::shared_ptr<const Boundary<3>> Boundary3;
+
+  template <int DIM>
+  std::shared_ptr<const Boundary<DIM>>& CachedBoundary()
+  {
+    if constexpr (DIM == 2)
+    {
+      return this->Boundary2;
+    }
+    else
+    {
+      return this->Boundary3;
+    }
+  }
+
+  // What the core boundary is built from: the Boundary input's piece (and
+  // the signature of the gathered pieces), the implicit boundary, the
+  // selected value arrays and the settings that shape the boundary; for
+  // implicit and CSG boundaries, the bounds of the region's points.
+  std::vector<std::uint64_t> MakeKey(
+    const ProblemData& data, const ArraySelections& arrays, vtkDataSet* regionProbe) const
+  {
+    const ProblemInputs& in = this->Inputs;
+    std::vector<std::uint64_t> key{ static_cast<std::uint64_t>(this->Dimension),
+      data.GatheredSignature };
+    auto addString = [&key](const std::string& s) { AppendString(s, key); };
+    auto addDouble = [&key](double v) { AppendDouble(v, key); };
+    for (vtkObject* object : { static_cast<vtkObject*>(data.BoundaryPiece),
+           static_cast<vtkObject*>(this->Settings.ImplicitBoundary) })
+    {
+      AppendFingerprint(object, key);
+      key.push_back(~std::uint64_t(0));
+    }
+    // The arrays selected for g, h and the back side's g.
+    for (int idx : { 0, 1, 3 })
+    {
+      const ArraySelection& s = arrays.Index[static_cast<std::size_t>(idx)];
+      addString(s.Name);
+      key.push_back(s.Selected ? static_cast<std::uint64_t>(s.Association) : ~std::uint64_t(0));
+      key.push_back(s.AttributeType >= 0 ? static_cast<std::uint64_t>(s.AttributeType)
+                                         : ~std::uint64_t(0));
+    }
+    for (const std::string& e : in.ValueExpressions)
+    {
+      addString(e);
+    }
+    addString(in.Name);
+    key.push_back(in.CellData ? 1 : 0);
+    key.push_back(in.TwoSided ? 1 : 0);
+    // The values hold g and h.
+    key.push_back(this->Settings.Equation == vtkWalkOnSpheresSolver::BIHARMONIC ? 1 : 0);
+    key.push_back(static_cast<std::uint64_t>(in.CsgOperation));
+    addDouble(in.CsgBlendRadius);
+    addDouble(this->Settings.LipschitzBound);
+    if (regionProbe)
+    {
+      double bounds[6];
+      regionProbe->GetBounds(bounds);
+      for (double b : bounds)
+      {
+        addDouble(b);
+      }
+    }
+    return key;
+  }
+
+  template <int DIM>
+  bool Make(vtkObject* self, ProblemBuilder& builder, BuiltProblem& out);
+};
+
+ProblemBuilder::ProblemBuilder()
+  : Internal(new Internals)
+{
+}
+
+ProblemBuilder::~ProblemBuilder() = default;
+
+void ProblemBuilder::Forget()
+{
+  this->Internal->BoundaryKey.clear();
+  this->Internal->Boundary2.reset();
+  this->Internal->Boundary3.reset();
+}
+
+bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
+  const ArraySelections& arrays, const ProblemData& data)
+{
+  Internals& state = *this->Internal;
+  state.Resolved = false;
+  state.Settings = settings;
+  state.Inputs = ProblemInputs();
+  state.Values = nullptr;
+  state.MergedBoundary = nullptr;
+  ProblemInputs& inputs = state.Inputs;
+
+  vtkDataObject* boundaryObject = data.Boundary;
+  vtkDataObject* sourceObject = data.Source;
+  vtkPolyData* boundary = vtkPolyData::SafeDownCast(boundaryObject);
+  vtkDataSet* source = vtkDataSet::SafeDownCast(sourceObject);
+  if (sourceObject && !source)
+  {
+    vtkErrorWithObjectMacro(self, << "The Source input is a " << sourceObject->GetClassName()
+                                  << ", not a dataset.");
+    return false;
+  }
+  const bool implicit = settings.ImplicitBoundary != nullptr;
+  const bool csg = settings.CsgOperation != vtkWalkOnSpheresSolver::CSG_NONE;
+  const bool biharmonicEquation = settings.Equation == vtkWalkOnSpheresSolver::BIHARMONIC;
+
+  // A composite boundary: its vtkPolyData leaves are the CSG operands, or,
+  // without CSG, one polygon soup.
+  std::vector<vtkPolyData*> blocks;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(boundaryObject))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    it->SkipEmptyNodesOn();
+    int index = 0;
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem(), ++index)
+    {
+      vtkDataObject* leaf = it->GetCurrentDataObject();
+      auto* poly = vtkPolyData::SafeDownCast(leaf);
+      if (!poly)
+      {
+        vtkErrorWithObjectMacro(self,
+          << "Block " << index << " of the Boundary input is a "
+          << (leaf ? leaf->GetClassName() : "null object")
+          << ", not a vtkPolyData: every block of a composite boundary must be a "
+             "surface (or, in 2D, lines).");
+        return false;
+      }
+      blocks.push_back(poly);
+    }
+    if (blocks.empty())
+    {
+      vtkErrorWithObjectMacro(self, << "The composite Boundary input has no vtkPolyData blocks.");
+      return false;
+    }
+    if (!csg)
+    {
+      vtkNew<vtkAppendPolyData> merged;
+      for (vtkPolyData* block : blocks)
+      {
+        merged->AddInputData(block);
+      }
+      merged->Update();
+      state.MergedBoundary = merged->GetOutput();
+      boundary = state.MergedBoundary;
+    }
+  }
+  else if (csg && boundary)
+  {
+    blocks.push_back(boundary); // one closed mesh is one operand
+  }
+  if (csg)
+  {
+    boundary = nullptr;
+  }
+  if (!boundary && blocks.empty() && !implicit)
+  {
+    vtkErrorWithObjectMacro(self, << "No Boundary input: connect a vtkPolyData with boundary "
+                                     "values to port 0, or set an ImplicitBoundary.");
+    return false;
+  }
+
+  std::string reason;
+  // Boundary values from expressions (g, and h for the biharmonic equation).
+  if (!settings.BoundaryValueExpression.empty())
+  {
+    inputs.ValueExpressions.push_back(settings.BoundaryValueExpression);
+    if (biharmonicEquation)
+    {
+      if (settings.BoundaryLaplacianExpression.empty())
+      {
+        vtkErrorWithObjectMacro(self, << "The biharmonic equation with BoundaryValueExpression "
+                                         "also needs BoundaryLaplacianExpression (h = Δu on the "
+                                         "boundary).");
+        return false;
+      }
+      inputs.ValueExpressions.push_back(settings.BoundaryLaplacianExpression);
+    }
+    for (const std::string& e : inputs.ValueExpressions)
+    {
+      if (!CheckSourceExpression(e, reason))
+      {
+        vtkErrorWithObjectMacro(
+          self, << "Cannot use the boundary value expression '" << e << "': " << reason << ".");
+        return false;
+      }
+    }
+  }
+  const bool expressionValues = !inputs.ValueExpressions.empty();
+  if (implicit && !expressionValues && !boundary && !csg)
+  {
+    vtkErrorWithObjectMacro(self, << "The implicit boundary has no values: set "
+                                     "BoundaryValueExpression, or connect a mesh with boundary "
+                                     "values to port 0 to sample them from.");
+    return false;
+  }
+  if (implicit && expressionValues && boundary)
+  {
+    vtkWarningWithObjectMacro(self, << "The Boundary input is not used: the implicit boundary "
+                                       "takes its values from BoundaryValueExpression.");
+    boundary = nullptr;
+  }
+
+  if (settings.TwoSidedBoundaryValues)
+  {
+    // The side test needs the mesh's orientation and the value table.
+    if (csg || implicit || expressionValues)
+    {
+      vtkErrorWithObjectMacro(self,
+        << "Two-sided boundary values need a mesh boundary with front and back arrays: they "
+           "cannot be used with "
+        << (csg ? "a CSG boundary"
+                : (implicit ? "an implicit boundary" : "BoundaryValueExpression"))
+        << ".");
+      return false;
+    }
+    if (biharmonicEquation)
+    {
+      vtkErrorWithObjectMacro(self, << "Two-sided boundary values are not available for the "
+                                       "biharmonic equation: use the Laplace, Poisson or "
+                                       "screened Poisson equation.");
+      return false;
+    }
+  }
+
+  int dimension = 3;
+  std::string name = "Solution";
+  bool cellData = false;
+  const BoundaryValueContext context{ self, state.Settings, arrays };
+  if (csg)
+  {
+    if (!BoundaryValuesOfCsgOperands(context, blocks, expressionValues, inputs, dimension, name))
+    {
+      return false;
+    }
+    inputs.CsgOperation = settings.CsgOperation;
+    inputs.CsgBlendRadius = settings.CsgBlendRadius;
+  }
+  else if (!BoundaryValuesOfBoundary(context, boundary, implicit, expressionValues, dimension,
+             name, state.Values, cellData))
+  {
+    return false;
+  }
+
+  if (settings.Equation == vtkWalkOnSpheresSolver::SCREENED_POISSON &&
+    !(settings.ScreeningCoefficient > 0.0))
+  {
+    vtkErrorWithObjectMacro(self, << "The screened Poisson equation needs ScreeningCoefficient "
+                                     "> 0 (got "
+                                  << settings.ScreeningCoefficient
+                                  << "); use the Poisson equation for c = 0.");
+    return false;
+  }
+
+  // Source terms: the Source input's point array and the expression.
+  const bool hasExpression = !settings.SourceExpression.empty();
+  const bool usesSources = settings.Equation == vtkWalkOnSpheresSolver::POISSON ||
+    settings.Equation == vtkWalkOnSpheresSolver::SCREENED_POISSON;
+  if ((source || hasExpression) && !usesSources)
+  {
+    vtkWarningWithObjectMacro(self, << "The source term (Source input or SourceExpression) is "
+                                       "ignored: only the Poisson and screened Poisson equations "
+                                       "have one.");
+  }
+  if (usesSources && source)
+  {
+    int sourceAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    inputs.SourceArray = arrays.Resolve(2, source, false, sourceAssociation, reason);
+    if (!inputs.SourceArray && !reason.empty())
+    {
+      vtkErrorWithObjectMacro(self, << "Cannot use the Source input: " << reason << ".");
+      return false;
+    }
+    if (!inputs.SourceArray)
+    {
+      // No selection: the active point scalars, else the only point array.
+      inputs.SourceArray = source->GetPointData()->GetScalars();
+      if (!inputs.SourceArray && source->GetPointData()->GetNumberOfArrays() == 1)
+      {
+        inputs.SourceArray = source->GetPointData()->GetArray(0);
+      }
+    }
+    if (inputs.SourceArray && sourceAssociation != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+    {
+      vtkErrorWithObjectMacro(self, << "The source array must be point data of the Source input.");
+      return false;
+    }
+    inputs.Source = source;
+  }
+  if (usesSources && hasExpression)
+  {
+    inputs.Expression = settings.SourceExpression;
+  }
+
+  inputs.Boundary = boundary;
+  inputs.Implicit = settings.ImplicitBoundary;
+  inputs.LipschitzBound = settings.LipschitzBound;
+  inputs.Values = state.Values;
+  inputs.CellData = cellData;
+  inputs.TwoSided = settings.TwoSidedBoundaryValues;
+  inputs.Region = data.Region;
+  inputs.Name = name;
+  state.Dimension = dimension;
+  inputs.BoundaryKey = state.MakeKey(data, arrays, implicit || csg ? data.Region : nullptr);
+  state.Resolved = true;
+  return true;
+}
+
+template <int DIM>
+bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, BuiltProblem& out)
+{
+  const ProblemInputs& in = this->Inputs;
+  std::shared_ptr<const Boundary<DIM>>& cached = this->CachedBoundary<DIM>();
+  if (!cached || this->BoundaryKey != in.BoundaryKey)
+  {
+    builder.Forget(); // frees the old hierarchy before building
+    auto built = std::make_shared<Boundary<DIM>>();
+    if (!AssembleBoundary<DIM>(self, in, *built))
+    {
+      return false;
+    }
+    cached = built;
+    this->BoundaryKey = in.BoundaryKey;
+    builder.LastBoundaryBuilt = true;
+  }
+  const std::shared_ptr<const Boundary<DIM>> shared = cached;
+  const Boundary<DIM>& geometry = *shared;
+  const SolveSettings& s = this->Settings;
+
+  WalkSettings settings;
+  const double diagonal = geometry.Diagonal();
+  settings.Epsilon = s.EpsilonIsRelative ? s.Epsilon * diagonal : s.Epsilon;
+  if (!(settings.Epsilon > 0.0))
+  {
+    vtkErrorWithObjectMacro(self, << "Epsilon must be positive (got " << settings.Epsilon
+                                  << " in world units; boundary diagonal " << diagonal << ").");
+    return false;
+  }
+  if (settings.Epsilon >= 0.1 * diagonal)
+  {
+    // Walks stop within ε of the boundary: at this size the result is
+    // little more than the boundary value nearest to each probe point.
+    vtkWarningWithObjectMacro(self, << "Epsilon is " << settings.Epsilon
+                                    << " in world units, at least a tenth of the boundary's "
+                                       "diagonal ("
+                                    << diagonal
+                                    << "): walks stop that far from the boundary, so the "
+                                       "result is mostly the nearest boundary value, not the "
+                                       "solution. Typical values are 1e-4 to 1e-2 of the "
+                                       "diagonal (EpsilonIsRelative).");
+  }
+  settings.MaxSteps = s.MaxSteps;
+  settings.Problem = static_cast<Equation>(s.Equation);
+  settings.ScreeningCoefficient = s.ScreeningCoefficient;
+  settings.Sampling = static_cast<SourceSampling>(s.SourceSampling);
+  settings.Biharmonic = static_cast<BiharmonicStrategy>(s.BiharmonicStrategy);
+  settings.NestedWalks = s.NestedWalks;
+
+  const bool biharmonic = settings.Problem == Equation::Biharmonic;
+  const int nc = biharmonic ? geometry.Components() / 2 : geometry.Components();
+
+  // Sources (only for the equations that have them; Resolve warned otherwise).
+  auto sources = std::make_shared<SourceSet<DIM>>();
+  if (WalkOnSpheresEstimator<DIM>::UsesSources(settings.Problem))
+  {
+    std::string reason;
+    if (!ConvertSource<DIM>(in.Source, in.SourceArray, in.Expression, nc,
+          ProblemPlaneZ<DIM>(in), *sources, reason,
+          static_cast<SourceOperator>(s.SourceOperator)))
+    {
+      vtkErrorWithObjectMacro(self, << "Cannot use the source term: " << reason << ".");
+      return false;
+    }
+    if (sources->IgnoredSurfaceCells > 0)
+    {
+      vtkWarningWithObjectMacro(self, << "Ignored " << sources->IgnoredSurfaceCells
+                                      << " polygons of the Source input: a vtkPolyData source "
+                                         "gives point sources (vertices) and curve sources "
+                                         "(lines) only.");
+    }
+  }
+
+  out = BuiltProblem();
+  out.Dimension = DIM;
+  out.Name = in.Name;
+  out.Components = nc;
+  out.Biharmonic = biharmonic;
+  auto problem = std::make_shared<const Problem<DIM>>(shared, settings, sources);
+  if constexpr (DIM == 2)
+  {
+    out.Problem2 = problem;
+  }
+  else
+  {
+    out.Problem3 = problem;
+  }
+  return true;
+}
+
+bool ProblemBuilder::Build(vtkObject* self, BuiltProblem& problem)
+{
+  this->LastBoundaryBuilt = false;
+  Internals& state = *this->Internal;
+  if (!state.Resolved)
+  {
+    vtkErrorWithObjectMacro(self, << "No problem to build: its inputs were not resolved.");
+    return false;
+  }
+  bool ok = false;
+  try
+  {
+    ok = state.Dimension == 2 ? state.Make<2>(self, *this, problem)
+                              : state.Make<3>(self, *this, problem);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorWithObjectMacro(self, << "Walk on spheres failed: " << e.what());
+    ok = false;
+  }
+  if (!ok)
+  {
+    this->Forget();
+  }
+  return ok;
+}
+} // namespace gridfree
