@@ -2,6 +2,8 @@
 
 #include "GridFreeArrays.h"
 
+#include <gridfree/applications/LockstepStreamlines.h>
+
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
@@ -257,18 +259,26 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     return std::min(h, 0.5 * line.Estimates.back().Distance);
   };
 
-  // Lockstep integration: each stage estimates at all running lines' stage
-  // points in one solver run.
-  const int stages = this->IntegratorType == RUNGE_KUTTA_4 ? 4 : 2;
+  // Lockstep integration (the core's LockstepStreamlines.h): each stage
+  // estimates at all running lines' stage points in one batch. A stage whose
+  // direction is undefined reuses the previous one.
+  const gridfree::StreamIntegrator method = this->IntegratorType == RUNGE_KUTTA_4
+    ? gridfree::StreamIntegrator::RungeKutta4
+    : gridfree::StreamIntegrator::Heun;
   for (int step = 0; step < this->MaximumNumberOfSteps && !aborted; ++step)
   {
     std::vector<std::size_t> running;
-    std::vector<std::array<Point, 4>> k(lines.size());
+    std::vector<Point> from, first;
+    std::vector<double> steps;
     for (std::size_t l = 0; l < lines.size(); ++l)
     {
-      if (lines[l].Reason == 0 && startStep(lines[l], k[l][0]))
+      Point d;
+      if (lines[l].Reason == 0 && startStep(lines[l], d))
       {
         running.push_back(l);
+        from.push_back(lines[l].Points.back());
+        first.push_back(d);
+        steps.push_back(stepOf(lines[l]));
       }
     }
     if (running.empty())
@@ -282,42 +292,33 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
       aborted = true;
       break;
     }
-    // Heun: k2 at x + h k1. RK4: k2 at x + h/2 k1, k3 at x + h/2 k2, k4 at
-    // x + h k3. A stage whose direction is undefined reuses the previous one.
-    for (int stage = 1; stage < stages; ++stage)
+    auto gradientDirections = [&](int, const std::vector<Point>& at, const std::vector<Point>&,
+                                std::vector<Point>& directions, std::vector<char>& defined) {
+      std::vector<Estimate> estimates;
+      if (!estimate(at, estimates))
+      {
+        return false;
+      }
+      for (std::size_t r = 0; r < running.size(); ++r)
+      {
+        defined[r] = UnitDirection(estimates[r], lines[running[r]].Sign, 0.0, directions[r]);
+      }
+      return true;
+    };
+    std::vector<Point> combined;
+    if (!gridfree::LockstepStepDirections<Point, 3>(
+          method, from, steps, first, gradientDirections, combined))
     {
-      const double factor = stages == 2 ? 1.0 : (stage == 3 ? 1.0 : 0.5);
-      std::vector<Point> where(running.size());
-      for (std::size_t r = 0; r < running.size(); ++r)
-      {
-        const std::size_t l = running[r];
-        where[r] = Advance(lines[l].Points.back(), factor * stepOf(lines[l]), k[l][stage - 1]);
-      }
-      std::vector<Estimate> at;
-      aborted = !estimate(where, at) || aborted;
-      for (std::size_t r = 0; r < running.size(); ++r)
-      {
-        const std::size_t l = running[r];
-        if (!UnitDirection(at[r], lines[l].Sign, 0.0, k[l][stage]))
-        {
-          k[l][stage] = k[l][stage - 1];
-        }
-      }
+      aborted = true;
+      break;
     }
     std::vector<Point> next(running.size());
     for (std::size_t r = 0; r < running.size(); ++r)
     {
-      const auto& d = k[running[r]];
-      Point direction;
-      for (int c = 0; c < 3; ++c)
-      {
-        direction[c] = stages == 2 ? 0.5 * (d[0][c] + d[1][c])
-                                   : (d[0][c] + 2.0 * d[1][c] + 2.0 * d[2][c] + d[3][c]) / 6.0;
-      }
-      next[r] = Advance(lines[running[r]].Points.back(), stepOf(lines[running[r]]), direction);
+      next[r] = Advance(from[r], steps[r], combined[r]);
     }
     std::vector<Estimate> atNext;
-    if (aborted || !estimate(next, atNext))
+    if (!estimate(next, atNext))
     {
       aborted = true;
       break; // an aborted batch's points are NaN: the lines end before them

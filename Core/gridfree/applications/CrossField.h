@@ -35,6 +35,7 @@
 #ifndef GRIDFREE_APPLICATIONS_CROSS_FIELD_H
 #define GRIDFREE_APPLICATIONS_CROSS_FIELD_H
 
+#include <gridfree/applications/LockstepStreamlines.h>
 #include <gridfree/math/Vector.h>
 
 #include <algorithm>
@@ -915,7 +916,8 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
       break;
     }
     std::vector<std::size_t> moving;
-    std::vector<Vec2> trial;
+    std::vector<Vec2> from, first;
+    std::vector<double> steps;
     for (std::size_t q = 0; q < owners.size(); ++q)
     {
       const std::size_t c = owners[q];
@@ -997,14 +999,35 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
       }
       tracer.Step = h;
       moving.push_back(c);
-      trial.push_back(tracer.X + h * tracer.Direction);
+      from.push_back(tracer.X);
+      first.push_back(tracer.Direction);
+      steps.push_back(h);
     }
     if (moving.empty())
     {
       continue;
     }
-    // Stage 2 at the Euler points (Heun).
-    if (!evaluateOrStop(trial, moving))
+    // Heun's second stage at the Euler points, in one batch
+    // (LockstepStreamlines.h). Following the cross nearest to the first
+    // stage keeps both stages on the same branch; an unusable second stage
+    // falls back to Euler.
+    const auto crossDirections = [&](int, const std::vector<Vec2>& at,
+                                   const std::vector<Vec2>& previous,
+                                   std::vector<Vec2>& directions, std::vector<char>& defined) {
+      if (!evaluateOrStop(at, moving))
+      {
+        return false;
+      }
+      for (std::size_t q = 0; q < moving.size(); ++q)
+      {
+        defined[q] = detail::IsUsable(samples[q]) &&
+          AlignedCrossDirection(samples[q].Psi, previous[q], directions[q]);
+      }
+      return true;
+    };
+    std::vector<Vec2> combined;
+    if (!LockstepStepDirections<Vec2, 2>(
+          StreamIntegrator::Heun, from, steps, first, crossDirections, combined))
     {
       break;
     }
@@ -1014,18 +1037,7 @@ inline std::vector<Separatrix> TraceSeparatrices(const CrossFieldEvaluator& eval
       const std::size_t c = moving[q];
       Tracer& tracer = tracers[c];
       Separatrix& curve = curves[c];
-      Vec2 second;
-      Vec2 direction = tracer.Direction;
-      // Following the cross nearest to the first stage keeps both stages on
-      // the same branch; an unusable second stage falls back to Euler.
-      if (detail::IsUsable(samples[q]) && AlignedCrossDirection(samples[q].Psi, tracer.Direction, second))
-      {
-        const Vec2 sum = tracer.Direction + second;
-        if (sum.norm() > 1e-12)
-        {
-          direction = 0.5 * sum;
-        }
-      }
+      const Vec2 direction = combined[q];
       const Vec2 next = tracer.X + tracer.Step * direction;
       const Singularity& source = singularities[curve.Source];
       int target = -1;

@@ -213,18 +213,24 @@ public:
     {
       status = this->FindOneSidedCentre(x0, centre, radius);
     }
-    if (this->Settings.Problem == Equation::ScreenedPoisson)
+    // The first ball's Green's function and Hessian kernels are the
+    // equation's (EquationPolicies.h).
+    const double r = status == DerivativeStatus::Unavailable ? 1.0 : radius;
+    auto run = [&](const auto& equation) {
+      this->Run(x0, centre, status, equation.Green(r),
+        BallHessianKernels<DIM>(r, equation.ScreeningCoefficient()), escapeRadius, key,
+        firstWalk, walks, stats, counters);
+    };
+    switch (this->Settings.Problem)
     {
-      const double c = this->Settings.ScreeningCoefficient;
-      const double r = status == DerivativeStatus::Unavailable ? 1.0 : radius;
-      this->Run(x0, centre, status, YukawaGreensFunction<DIM>(r, c),
-        BallHessianKernels<DIM>(r, c), escapeRadius, key, firstWalk, walks, stats, counters);
-    }
-    else
-    {
-      const double r = status == DerivativeStatus::Unavailable ? 1.0 : radius;
-      this->Run(x0, centre, status, HarmonicGreensFunction<DIM>(r),
-        BallHessianKernels<DIM>(r, 0.0), escapeRadius, key, firstWalk, walks, stats, counters);
+      case Equation::ScreenedPoisson:
+        run(equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
+        break;
+      case Equation::Biharmonic:
+        run(equations::Biharmonic<DIM>{});
+        break;
+      default:
+        run(equations::Harmonic<DIM>{});
     }
     return status;
   }

@@ -45,6 +45,7 @@
 #define GRIDFREE_ESTIMATORS_WALK_ON_SPHERES_H
 
 #include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/ExteriorReturn.h>
 #include <gridfree/greens/GreensFunctions.h>
 #include <gridfree/sampling/Random.h>
@@ -218,17 +219,22 @@ public:
   bool SourceSupportIsBounded() const { return this->BoundedSupport; }
 
   // One walk from x0; writes OutputComponents() numbers into sample.
+  // The walk is compiled once per equation policy (EquationPolicies.h).
   WalkEnd Walk(const Vec<DIM>& x0, double escapeRadius, RandomStream& rng, double* sample,
     int& steps, std::uint64_t& returns)
   {
-    if (this->Settings.Problem == Equation::ScreenedPoisson)
+    switch (this->Settings.Problem)
     {
-      const double c = this->Settings.ScreeningCoefficient;
-      return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns,
-        [c](double radius) { return YukawaGreensFunction<DIM>(radius, c); });
+      case Equation::ScreenedPoisson:
+        return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns,
+          equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
+      case Equation::Biharmonic:
+        return this->WalkWith(
+          x0, escapeRadius, rng, sample, steps, returns, equations::Biharmonic<DIM>{});
+      default:
+        return this->WalkWith(
+          x0, escapeRadius, rng, sample, steps, returns, equations::Harmonic<DIM>{});
     }
-    return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns,
-      [](double radius) { return HarmonicGreensFunction<DIM>(radius); });
   }
 
   // Runs walks number firstWalk .. firstWalk + walks - 1 from the probe point
@@ -273,19 +279,13 @@ public:
   }
 
 private:
-  bool HasExteriorStrategy() const
-  {
-    return this->Settings.Problem == Equation::Laplace ||
-      this->Settings.Problem == Equation::Poisson;
-  }
-
-  template <class MakeGreen>
+  template <class Policy>
   WalkEnd WalkWith(Vec<DIM> x, double escapeRadius, RandomStream& rng, double* sample,
-    int& steps, std::uint64_t& returns, const MakeGreen& makeGreen)
+    int& steps, std::uint64_t& returns, const Policy& equation)
   {
     const WalkSettings& s = this->Settings;
-    const bool biharmonic = s.Problem == Equation::Biharmonic;
-    const bool exterior = this->HasExteriorStrategy();
+    constexpr bool biharmonic = Policy::IsBiharmonic;
+    constexpr bool exterior = Policy::HasExteriorStrategy;
     const double farRadius = s.FarRadiusFactor * this->Radius;
     const double escape2 = escapeRadius * escapeRadius;
     std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
@@ -354,9 +354,9 @@ private:
         break;
       }
 
-      if (this->Sources.Active() || biharmonic || s.Problem == Equation::ScreenedPoisson)
+      if (this->Sources.Active() || biharmonic || Policy::WeightsSteps)
       {
-        const auto green = makeGreen(radius);
+        const auto green = equation.Green(radius);
         if (this->Sources.Active())
         {
           // −∫_B f G (FORMULAS.md §2: the source enters with a minus sign).
@@ -367,7 +367,7 @@ private:
             this->Accumulated[c] -= weight * this->InnerValue[c];
           }
         }
-        if (biharmonic)
+        if constexpr (biharmonic)
         {
           if (s.Biharmonic == BiharmonicStrategy::TreeWalking)
           {
@@ -379,7 +379,7 @@ private:
           }
         }
         const double boundaryWeight = green.BoundaryWeight();
-        if (s.Problem == Equation::ScreenedPoisson && fromCenter2 > farRadius * farRadius)
+        if (Policy::WeightsSteps && fromCenter2 > farRadius * farRadius)
         {
           // Far from everything: Russian roulette with survival probability
           // C instead of the weight C (unbiased, and the walk ends soon since
@@ -413,15 +413,9 @@ private:
     {
       sample[c] = this->Accumulated[c] + weight * this->BoundaryValue[c];
     }
-    if (biharmonic)
+    if constexpr (biharmonic)
     {
-      for (int c = 0; c < nc; ++c)
-      {
-        const double h = this->BoundaryValue[nc + c];
-        // Tree walking: −Σ ∫G · v(x_k) with v(x_k) estimated by h(x̄).
-        sample[c] -= ballIntegrals * h;
-        sample[nc + c] = h; // Δu(x_0) = v(x_0): a Laplace estimate with data h
-      }
+      Policy::Finish(sample, this->BoundaryValue.data(), ballIntegrals, nc);
     }
     return end;
   }
