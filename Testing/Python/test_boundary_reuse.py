@@ -3,7 +3,8 @@ values) once and reuses it while nothing that shapes it changes: moving the
 probe, changing the walks, the seed or Epsilon, or refining reuses it, with
 the numbers of a fresh solver; new boundary data, another value array, an
 expression, the equation's g-and-h layout or an edited implicit function
-rebuild it."""
+rebuild it. The stream tracer, which asks its problem at every stage, builds
+it once per execution and keeps it the same way."""
 import os
 import sys
 
@@ -132,3 +133,54 @@ def test_an_edited_implicit_boundary_is_rebuilt():
     assert not updated(solver)
     sphere.SetRadius(1.2)
     assert updated(solver)
+
+
+def test_stream_tracer_builds_its_problem_once_and_keeps_it():
+    from vtkmodules.vtkFiltersSources import vtkLineSource
+
+    def tracer_for(seeds):
+        tracer = gridfree.vtkWalkOnSpheresStreamTracer()
+        tracer.SetBoundaryData(boundary)
+        tracer.SetSeedsConnection(seeds.GetOutputPort())
+        tracer.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+        tracer.SetWalksPerPoint(32)
+        tracer.SetMaximumNumberOfSteps(8)
+        return tracer
+
+    def lines(tracer):
+        out = tracer.GetOutput()
+        points = [out.GetPoint(i) for i in range(out.GetNumberOfPoints())]
+        return points, point_arrays_of(out)
+
+    boundary = sphere_boundary(resolution=32)
+    seeds = vtkLineSource()
+    seeds.SetPoint1(-0.2, 0.0, 0.0)
+    seeds.SetPoint2(0.2, 0.1, 0.0)
+    seeds.SetResolution(2)
+    tracer = tracer_for(seeds)
+    tracer.Update()
+    # Every stage of every line asked one problem: built once.
+    assert tracer.GetLastBoundaryBuilt()
+    assert tracer.GetOutput().GetNumberOfPoints() > 6
+    # New seeds and more walks: the kept boundary, the numbers of a fresh tracer.
+    seeds.SetPoint2(0.1, 0.3, 0.1)
+    tracer.SetWalksPerPoint(48)
+    tracer.Update()
+    assert not tracer.GetLastBoundaryBuilt()
+    fresh = tracer_for(seeds)
+    fresh.SetWalksPerPoint(48)
+    fresh.Update()
+    assert fresh.GetLastBoundaryBuilt()
+    assert lines(tracer) == lines(fresh)
+    # Another boundary array rebuilds it.
+    add_point_array(boundary, "U", lambda x, y, z: x + y)
+    tracer.SetInputArrayToProcess(0, 0, 0, POINTS, "U")
+    tracer.Update()
+    assert tracer.GetLastBoundaryBuilt()
+
+
+def point_arrays_of(data):
+    pd = data.GetPointData()
+    return {pd.GetArrayName(k): [pd.GetArray(k).GetTuple(i)
+                                 for i in range(pd.GetArray(k).GetNumberOfTuples())]
+            for k in range(pd.GetNumberOfArrays())}
