@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "vtkAlgorithm.h"
+#include "vtkDataSet.h"
 #include "vtkPointData.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -324,6 +325,16 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   return true;
 }
 } // namespace
+
+std::vector<std::array<double, 3>> PointsOf(vtkDataSet* data)
+{
+  std::vector<std::array<double, 3>> points(static_cast<std::size_t>(data->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
+  {
+    data->GetPoint(i, points[static_cast<std::size_t>(i)].data());
+  }
+  return points;
+}
 
 bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,

@@ -19,6 +19,7 @@
 #include <vector>
 
 class vtkAlgorithm;
+class vtkDataSet;
 class vtkPointData;
 class vtkFieldData;
 
@@ -48,6 +49,9 @@ struct PointEstimateSummary
   double Seconds = 0.0;
   int ResumedWalksPerPoint = 0;
 };
+
+// The coordinates of `data`'s points, in order.
+std::vector<std::array<double, 3>> PointsOf(vtkDataSet* data);
 
 // Estimates at `points` with `settings`' walks, seed, threads and
 // derivatives, and adds the arrays to `arrays` (and the summary to

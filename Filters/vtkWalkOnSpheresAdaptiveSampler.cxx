@@ -203,6 +203,10 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   if (!solveAt(firstIds, 0,
         std::vector<double>(firstIds.size(), std::numeric_limits<double>::quiet_NaN())))
   {
+    if (this->GetEstimateFailed())
+    {
+      return 0;
+    }
     vtkWarningMacro(<< "Adaptive sampling aborted before the first samples were estimated.");
     return 1;
   }
@@ -369,6 +373,10 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   }
   // Each distinct warning of the rounds once.
   this->ReportWarnings();
+  if (this->GetEstimateFailed())
+  {
+    return 0;
+  }
   if (aborted)
   {
     vtkWarningMacro(<< "Adaptive sampling aborted after " << samples.Size() << " samples.");

@@ -190,11 +190,7 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   result->GetPointData()->PassData(probe->GetPointData());
   result->GetCellData()->PassData(probe->GetCellData());
   result->GetFieldData()->PassData(probe->GetFieldData());
-  std::vector<std::array<double, 3>> points(static_cast<std::size_t>(probe->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < probe->GetNumberOfPoints(); ++i)
-  {
-    probe->GetPoint(i, points[static_cast<std::size_t>(i)].data());
-  }
+  const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);
   std::vector<std::string> warnings;
   gridfree::PointEstimateRun run;
   run.ProgressBegin = begin;

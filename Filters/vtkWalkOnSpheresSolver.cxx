@@ -349,11 +349,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastBoundaryBuilt = this->Builder->GetLastBoundaryBuilt();
   if (ok)
   {
-    std::vector<std::array<double, 3>> points(static_cast<std::size_t>(probe->GetNumberOfPoints()));
-    for (vtkIdType i = 0; i < probe->GetNumberOfPoints(); ++i)
-    {
-      probe->GetPoint(i, points[static_cast<std::size_t>(i)].data());
-    }
+    const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);
     gridfree::PointEstimateRun run;
     run.Kept = this->KeepRunningSums ? &this->Cache->Sums : nullptr;
     run.Warn = [this](const std::string& text) { vtkWarningMacro(<< text); };

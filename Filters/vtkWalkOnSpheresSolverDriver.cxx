@@ -25,6 +25,7 @@ struct vtkWalkOnSpheresSolverDriver::Internals
   gridfree::ProblemBuilder Builder;
   gridfree::BuiltProblem Problem;
   std::vector<std::string> Warnings; // distinct, in order of arrival
+  bool EstimateFailed = false;
 };
 
 vtkWalkOnSpheresSolverDriver::vtkWalkOnSpheresSolverDriver()
@@ -170,6 +171,7 @@ bool vtkWalkOnSpheresSolverDriver::BuildProblem(
 {
   Internals& state = *this->Internal;
   state.Warnings.clear();
+  state.EstimateFailed = false;
   gridfree::ProblemData data;
   data.Boundary = boundary;
   data.BoundaryPiece = boundary;
@@ -193,11 +195,25 @@ bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<doubl
     }
   };
   gridfree::PointEstimateSummary summary;
-  const bool completed = gridfree::EstimateAtPoints(
-    this, state.Problem, state.Settings, points, arrays, nullptr, run, summary);
+  bool completed = false;
+  try
+  {
+    completed = gridfree::EstimateAtPoints(
+      this, state.Problem, state.Settings, points, arrays, nullptr, run, summary);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Walk on spheres failed: " << e.what());
+    state.EstimateFailed = true;
+  }
   seconds += summary.Seconds;
   walks += static_cast<vtkIdType>(summary.WalksRun);
   return completed;
+}
+
+bool vtkWalkOnSpheresSolverDriver::GetEstimateFailed()
+{
+  return this->Internal->EstimateFailed;
 }
 
 const char* vtkWalkOnSpheresSolverDriver::GetSolutionName()

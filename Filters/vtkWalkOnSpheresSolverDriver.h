@@ -152,9 +152,13 @@ protected:
   // Estimates the value and gradient at `points` with the built problem
   // and adds the arrays (named as vtkWalkOnSpheresSolver's output) to
   // `arrays`; progress stays at `progress`. Walks and seconds are added to
-  // `walks` and `seconds`. False when aborted.
+  // `walks` and `seconds`. False when aborted, or when the batch failed
+  // (reported as this filter's error; GetEstimateFailed() tells, and
+  // `arrays` may then lack the solution arrays).
   bool EstimateAt(const std::vector<std::array<double, 3>>& points, vtkPointData* arrays,
     double progress, double& seconds, vtkIdType& walks);
+  // Whether a batch of this execution failed (BuildProblem resets it).
+  bool GetEstimateFailed();
 
   // The name of the solution arrays of the built problem, and its components.
   const char* GetSolutionName();

@@ -179,6 +179,10 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     vtkDataArray* gradientVariance = pd->GetArray((valueName + "_Gradient_Variance").c_str());
     vtkDataArray* status = pd->GetArray("DerivativeStatus");
     vtkDataArray* distance = pd->GetArray("BoundaryDistance");
+    if (!value || !gradient || !valueVariance || !gradientVariance || !status || !distance)
+    {
+      return false; // the batch failed (reported)
+    }
     out.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
     {
@@ -344,6 +348,10 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
         line.Reason = OUT_OF_STEPS;
       }
     }
+  }
+  if (this->GetEstimateFailed())
+  {
+    return 0;
   }
   if (aborted)
   {
