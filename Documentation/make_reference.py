@@ -2,8 +2,11 @@
 implicit function and property, from the plugin's server-manager XML (the
 text ParaView shows in its help and tooltips), so the two never disagree.
 
-    python3 Documentation/make_reference.py            # rewrite Reference.md
-    python3 Documentation/make_reference.py --check    # exit 1 if it is stale
+    python3 Documentation/make_reference.py build/Plugin            # rewrite Reference.md
+    python3 Documentation/make_reference.py build/Plugin --check    # exit 1 if stale
+
+It reads the XML as the build writes it (build/Plugin: the proxies with their
+shared properties from Plugin/Shared filled in).
 
 The test Documentation.ReferenceUpToDate runs the check.
 """
@@ -13,7 +16,7 @@ import sys
 import xml.etree.ElementTree as ET
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-PLUGIN = os.path.join(HERE, "..", "Plugin")
+PLUGIN = None  # the build's Plugin folder, from the command line
 XML_FILES = ["GridFreeFilters.xml", "GridFreeApplications.xml", "GridFreeImplicitFunctions.xml"]
 PROPERTY_TAGS = ("IntVectorProperty", "DoubleVectorProperty", "StringVectorProperty",
                  "ProxyProperty", "InputProperty", "Property", "IdTypeVectorProperty")
@@ -141,12 +144,18 @@ def reference():
 
 
 def main():
+    global PLUGIN
+    folders = [a for a in sys.argv[1:] if not a.startswith("--")]
+    if len(folders) != 1 or not os.path.isfile(os.path.join(folders[0], XML_FILES[0])):
+        sys.exit("usage: make_reference.py BUILD/Plugin [--check] (the folder with the built "
+                 + XML_FILES[0] + ")")
+    PLUGIN = folders[0]
     target = os.path.join(HERE, "Reference.md")
     content = reference()
     if "--check" in sys.argv:
         current = open(target, encoding="utf-8").read() if os.path.exists(target) else ""
         if current != content:
-            sys.exit("Documentation/Reference.md is stale: run python3 Documentation/make_reference.py")
+            sys.exit("Documentation/Reference.md is stale: run python3 Documentation/make_reference.py BUILD/Plugin")
         print("ok: Documentation/Reference.md matches the plugin's XML")
         return
     with open(target, "w", encoding="utf-8") as f:

@@ -84,6 +84,7 @@ GRIDFREE_DRIVER_SETTING(CsgOperation, int, 0, 3)
 GRIDFREE_DRIVER_SETTING(CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
 GRIDFREE_DRIVER_SETTING(TwoSidedBoundaryValues, bool, false, true)
 GRIDFREE_DRIVER_SETTING(SourceSampling, int, 0, 2)
+GRIDFREE_DRIVER_SETTING(SourceOperator, int, 0, 2)
 GRIDFREE_DRIVER_SETTING(BiharmonicStrategy, int, 0, 1)
 GRIDFREE_DRIVER_SETTING(NestedWalks, int, 1, VTK_INT_MAX)
 #undef GRIDFREE_DRIVER_SETTING
@@ -250,6 +251,7 @@ void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CsgBlendRadius: " << s.CsgBlendRadius << "\n";
   os << indent << "TwoSidedBoundaryValues: " << s.TwoSidedBoundaryValues << "\n";
   os << indent << "SourceSampling: " << s.SourceSampling << "\n";
+  os << indent << "SourceOperator: " << s.SourceOperator << "\n";
   os << indent << "BiharmonicStrategy: " << s.BiharmonicStrategy << "\n";
   os << indent << "NestedWalks: " << s.NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << s.WalksPerPoint << "\n";

@@ -94,6 +94,11 @@ public:
   bool GetTwoSidedBoundaryValues();
   void SetSourceSampling(int sampling);
   int GetSourceSampling();
+  /// What the source term is made of the source data: the values, or the
+  /// divergence or curl of their vector field (vtkWalkOnSpheresSolver's
+  /// SOURCE_VALUE, SOURCE_DIVERGENCE, SOURCE_CURL).
+  void SetSourceOperator(int op);
+  int GetSourceOperator();
   void SetBiharmonicStrategy(int strategy);
   int GetBiharmonicStrategy();
   void SetNestedWalks(int walks);

@@ -6,7 +6,8 @@ plugin loaded: the array lists offer numeric arrays and no string array.
 (c) The solver's Debug property prints the run's summary as a debug message
 and the same numbers are in the output's field data.
 
-Usage: pvbatch test_plugin_panels.py [PLUGIN_SOURCE_DIR]"""
+Usage: pvbatch test_plugin_panels.py BUILD/Plugin (the server-manager XML as
+built, with the shared properties of Plugin/Shared filled in)"""
 import math
 import os
 import re
@@ -17,10 +18,9 @@ import paraview.simple as pvs
 from paraview import servermanager
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 
-if len(sys.argv) > 1:
-    PLUGIN_DIR = sys.argv[1]
-else:
-    PLUGIN_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Plugin")
+if len(sys.argv) < 2:
+    sys.exit("usage: pvbatch test_plugin_panels.py BUILD/Plugin")
+PLUGIN_DIR = sys.argv[1]
 XML_FILES = ("GridFreeFilters.xml", "GridFreeApplications.xml", "GridFreeImplicitFunctions.xml")
 FILTERS = ("WalkOnSpheresSolver", "WalkOnSpheresStreamTracer", "WalkOnSpheresAdaptiveSampler",
            "MovingLeastSquaresInterpolator", "WalkOnSpheresDenoiser",
@@ -109,6 +109,43 @@ for name, proxy in seen.items():
         if prop_name in by_name:
             check(by_name[prop_name].get("panel_visibility") in (None, "default"),
                   "%s.%s must stay in the basic panel" % (name, prop_name))
+
+# The panel in the order a user fills it in: the problem first (its group
+# holds Boundary Values), implicit boundaries and CSG near the end, expert
+# knobs last; the source settings only for equations with a source.
+for name in ("WalkOnSpheresSolver", "WalkOnSpheresStreamTracer", "WalkOnSpheresAdaptiveSampler"):
+    proxy = seen.get(name)
+    if proxy is None:
+        continue
+    shown = [p.get("name") for p in proxy if is_property(p) and p.tag != "InputProperty"]
+    check(shown[:2] == ["BoundaryValues", "Equation"],
+          "%s: the panel starts with %s, not Boundary Values and Equation" % (name, shown[:2]))
+    labels = [g.get("label") for g in proxy.findall("PropertyGroup")]
+    check(labels[0] == "Equation" and labels[-1] == "Advanced"
+          and labels[-2] == "Implicit Boundary and CSG",
+          "%s: groups in the order %s" % (name, labels))
+    for prop in proxy:
+        if prop.get("name") in ("SourceArray", "SourceExpression", "SourceOperator", "SourceSampling"):
+            shown_for = sorted(d.get("value") for d in prop.iter("PropertyWidgetDecorator")
+                               if d.get("property") == "Equation")
+            check(shown_for == ["1", "2"], "%s.%s is shown for equations %s, not Poisson and "
+                  "screened Poisson only" % (name, prop.get("name"), shown_for))
+    equations = [e.get("text") for prop in proxy if prop.get("name") == "Equation"
+                 for e in prop.iter("Entry")]
+    check(equations == ["Laplace", "Poisson", "Screened Poisson", "Biharmonic"],
+          "%s offers the equations %s" % (name, equations))
+
+# Each shared property is defined once in the sources (Plugin/Shared) and
+# included where it is used.
+source_dir = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Plugin")
+for filename in XML_FILES:
+    source = open(os.path.join(source_dir, filename), encoding="utf-8").read()
+    for shared in os.listdir(os.path.join(source_dir, "Shared")):
+        prop_name = shared[:-len(".xml")]
+        check(re.search(r'<\w+Property\s+name="%s"' % prop_name, source) is None
+              or prop_name in ("Source", "SourceArray", "SourceExpression"),
+              "%s defines %s again instead of including Plugin/Shared/%s"
+              % (filename, prop_name, shared))
 
 solver_xml = seen.get("WalkOnSpheresSolver")
 if solver_xml is not None:
