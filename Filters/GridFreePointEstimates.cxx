@@ -248,7 +248,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   }
 
   const double walkCount = static_cast<double>(totals.Walks);
-  const double walksPerSecond = seconds > 0.0 ? walkCount / seconds : 0.0;
+  // The rate of the walks run now: resumed walks cost nothing.
+  const double walksRun = static_cast<double>(summary.WalksRun);
+  const double walksPerSecond = seconds > 0.0 ? walksRun / seconds : 0.0;
   const double meanSteps = walkCount > 0.0 ? static_cast<double>(totals.Steps) / walkCount : 0.0;
   const double escapedFraction =
     walkCount > 0.0 ? static_cast<double>(totals.Escaped) / walkCount : 0.0;
@@ -261,6 +263,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     AddFieldValue(fd, "SolveSeconds", seconds);
     // Progressive refinement: walks per point taken from the kept sums.
     AddFieldValue(fd, "ResumedWalksPerPoint", static_cast<double>(startWalks));
+    AddFieldValue(fd, "WalksRun", walksRun);
     // The run's summary, ready to read in a spreadsheet view or a script.
     AddFieldValue(fd, "ProbePoints", static_cast<double>(numPoints));
     AddFieldValue(fd, "WalksPerSecond", walksPerSecond);
@@ -274,7 +277,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   {
     std::ostringstream msg;
     msg << self->GetObjectDescription() << ": summary: " << numPoints << " probe points, "
-        << totals.Walks << " walks, " << seconds << " s, " << walksPerSecond << " walks/s, "
+        << totals.Walks << " walks (" << summary.WalksRun << " run now), " << seconds << " s, "
+        << walksPerSecond << " walks/s, "
         << meanSteps << " steps per walk, escaped fraction " << escapedFraction;
     vtkOutputWindowDisplayDebugText(
       "GridFreePointEstimates.cxx", __LINE__, msg.str().c_str(), self);

@@ -310,7 +310,7 @@ summaries = [line for line in text.splitlines() if "summary:" in line]
 check(len(summaries) == 1, "Debug on: want one summary line, output window had: %r" % text[-2000:])
 match = None
 if summaries:
-    match = re.search(r"summary: (\d+) probe points, (\d+) walks, (\S+) s, (\S+) walks/s, "
+    match = re.search(r"summary: (\d+) probe points, (\d+) walks \(\d+ run now\), (\S+) s, (\S+) walks/s, "
                       r"(\S+) steps per walk, escaped fraction (\S+)", summaries[0])
     check(match is not None, "summary line: %r" % summaries[0])
     # A debug message: ParaView lists it in Output Messages.

@@ -1,0 +1,221 @@
+#include "pqGridFreeResponsiveSolves.h"
+
+#include "pqApplicationCore.h"
+#include "pqCoreUtilities.h"
+#include "pqPipelineSource.h"
+#include "pqProgressManager.h"
+#include "pqServerManagerModel.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkSMProxy.h"
+
+#include <QApplication>
+#include <QEvent>
+#include <QEventLoop>
+#include <QMouseEvent>
+#include <QToolButton>
+#include <QWidget>
+
+namespace
+{
+// The class names of GridFree's filters start with one of these (after
+// "vtk", which ParaView's progress text drops; "P" for the MPI subclass).
+const char* const kGridFreeClassStems[] = { "WalkOnSpheres", "PWalkOnSpheres",
+  "MovingLeastSquaresInterpolator" };
+
+bool IsGridFreeClassName(const QString& name)
+{
+  const QString stem = name.startsWith("vtk") ? name.mid(3) : name;
+  for (const char* gridFree : kGridFreeClassStems)
+  {
+    if (stem.startsWith(QLatin1String(gridFree)))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// User input that could start another pipeline update or close the window.
+bool IsUserInput(QEvent::Type type)
+{
+  switch (type)
+  {
+    case QEvent::MouseButtonPress:
+    case QEvent::MouseButtonRelease:
+    case QEvent::MouseButtonDblClick:
+    case QEvent::MouseMove:
+    case QEvent::Wheel:
+    case QEvent::KeyPress:
+    case QEvent::KeyRelease:
+    case QEvent::Shortcut:
+    case QEvent::ShortcutOverride:
+    case QEvent::ContextMenu:
+    case QEvent::DragEnter:
+    case QEvent::DragMove:
+    case QEvent::Drop:
+    case QEvent::TouchBegin:
+    case QEvent::TouchUpdate:
+    case QEvent::TouchEnd:
+    case QEvent::TabletPress:
+    case QEvent::TabletMove:
+    case QEvent::TabletRelease:
+    case QEvent::NonClientAreaMouseButtonPress:
+    case QEvent::NonClientAreaMouseButtonRelease:
+    case QEvent::NonClientAreaMouseButtonDblClick:
+    case QEvent::Close:
+      return true;
+    default:
+      return false;
+  }
+}
+} // namespace
+
+//-----------------------------------------------------------------------------
+pqGridFreeResponsiveSolves::pqGridFreeResponsiveSolves(QObject* parent)
+  : Superclass(parent)
+{
+}
+
+//-----------------------------------------------------------------------------
+pqGridFreeResponsiveSolves::~pqGridFreeResponsiveSolves() = default;
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onStartup()
+{
+  bool isNumber = false;
+  const double after = qEnvironmentVariable("GRIDFREE_TEST_ABORT_AFTER_SECONDS").toDouble(&isNumber);
+  this->TestAbortAfterSeconds = isNumber ? after : -1.0;
+  pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager();
+  if (!progress)
+  {
+    return;
+  }
+  // Direct connections: the slots run inside the filter's progress event,
+  // which is the only moment the GUI thread is ours during a solve.
+  QObject::connect(progress, &pqProgressManager::progress, this,
+    &pqGridFreeResponsiveSolves::onProgress, Qt::DirectConnection);
+  QObject::connect(progress, &pqProgressManager::progressEndEvent, this,
+    &pqGridFreeResponsiveSolves::onProgressEnd, Qt::DirectConnection);
+  QObject::connect(progress, &pqProgressManager::abort, this,
+    &pqGridFreeResponsiveSolves::onAbort, Qt::DirectConnection);
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onShutdown()
+{
+  if (pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager())
+  {
+    QObject::disconnect(progress, nullptr, this, nullptr);
+  }
+}
+
+//-----------------------------------------------------------------------------
+bool pqGridFreeResponsiveSolves::IsGridFreeProgress(const QString& text)
+{
+  return IsGridFreeClassName(text.trimmed());
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onProgress(const QString& text, int)
+{
+  if (this->ProcessingEvents || !IsGridFreeProgress(text))
+  {
+    return;
+  }
+  pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager();
+  if (!this->AbortButton)
+  {
+    if (QWidget* main = pqCoreUtilities::mainWidget())
+    {
+      this->AbortButton = main->findChild<QToolButton*>("AbortButton");
+    }
+  }
+  if (!this->AbortEnabled)
+  {
+    this->AbortEnabled = true;
+    progress->setEnableAbort(true);
+    this->Running.start();
+  }
+  if (this->TestAbortAfterSeconds >= 0.0 && this->AbortButton &&
+    this->Running.elapsed() >= 1000.0 * this->TestAbortAfterSeconds)
+  {
+    this->TestAbortAfterSeconds = -1.0; // once
+    this->AbortButton->click();
+  }
+
+  // Pending window events only: repaints, the progress bar, the Output
+  // Messages window, and a click on Abort. Other input is discarded by
+  // eventFilter; timers (delayed renders, auto-apply) and server sockets
+  // wait until the filter has finished.
+  this->ProcessingEvents = true;
+  this->Filtering = true;
+  qApp->installEventFilter(this);
+  const bool wasUnblocked = progress->unblockEvents(true);
+  QCoreApplication::processEvents(QEventLoop::X11ExcludeTimers | QEventLoop::ExcludeSocketNotifiers);
+  progress->unblockEvents(wasUnblocked);
+  qApp->removeEventFilter(this);
+  this->Filtering = false;
+  this->ProcessingEvents = false;
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onProgressEnd()
+{
+  if (this->AbortEnabled)
+  {
+    this->AbortEnabled = false;
+    pqApplicationCore::instance()->getProgressManager()->setEnableAbort(false);
+  }
+}
+
+//-----------------------------------------------------------------------------
+bool pqGridFreeResponsiveSolves::IsOnAbortButton(QObject* watched, QEvent* event) const
+{
+  if (!this->AbortButton || !this->AbortButton->isEnabled())
+  {
+    return false;
+  }
+  if (watched == this->AbortButton)
+  {
+    return true;
+  }
+  // A click reaches the window first, then the widget under the pointer.
+  if (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease)
+  {
+    const QPoint global = static_cast<QMouseEvent*>(event)->globalPos();
+    QWidget* under = QApplication::widgetAt(global);
+    return under == this->AbortButton;
+  }
+  return false;
+}
+
+//-----------------------------------------------------------------------------
+bool pqGridFreeResponsiveSolves::eventFilter(QObject* watched, QEvent* event)
+{
+  if (this->Filtering && IsUserInput(event->type()) && !this->IsOnAbortButton(watched, event))
+  {
+    return true; // discarded: nothing may start while the filter runs
+  }
+  return this->Superclass::eventFilter(watched, event);
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onAbort()
+{
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  if (!model)
+  {
+    return;
+  }
+  for (pqPipelineSource* source : model->findItems<pqPipelineSource*>())
+  {
+    vtkSMProxy* proxy = source->getProxy();
+    // Null unless the server is built in (the algorithm lives in this process).
+    auto algorithm = vtkAlgorithm::SafeDownCast(proxy ? proxy->GetClientSideObject() : nullptr);
+    if (algorithm && IsGridFreeClassName(QString::fromUtf8(algorithm->GetClassName())))
+    {
+      algorithm->SetAbortExecute(1);
+    }
+  }
+}

@@ -1,0 +1,74 @@
+/**
+ * @class   pqGridFreeResponsiveSolves
+ * @brief   Keeps the ParaView GUI alive while a GridFree filter runs, and makes
+ *          its Abort button stop the filter.
+ *
+ * ParaView 5.11 runs filters on the GUI thread of the built-in server and
+ * does not process events while they run: the window is not repainted, and
+ * the progress bar's Abort button is never enabled nor connected to anything.
+ * While a GridFree filter reports progress (which its solves do every tenth
+ * of a second), this auto-start component
+ *  - enables the Abort button and processes pending window events, so the
+ *    window repaints, progress and warnings show, and a click on Abort
+ *    arrives; every other user input (clicks, keys, the wheel, closing the
+ *    window) is discarded until the filter ends, so nothing can start another
+ *    update in the middle of this one; timers and server sockets are not
+ *    processed either;
+ *  - on Abort, sets AbortExecute on the GridFree algorithms of the built-in
+ *    server: the running one stops within a progress interval and reports
+ *    what it did not finish (VTK clears the flag when a filter next runs).
+ * With a remote server the Abort button stays as ParaView leaves it: the
+ * server cannot be reached while it computes.
+ *
+ * For GUI tests (event playback cannot click while a filter runs: the
+ * playback waits for the click that started it), the environment variable
+ * GRIDFREE_TEST_ABORT_AFTER_SECONDS makes it click Abort itself once a
+ * GridFree filter has run that long.
+ */
+#ifndef pqGridFreeResponsiveSolves_h
+#define pqGridFreeResponsiveSolves_h
+
+#include <QElapsedTimer>
+#include <QObject>
+#include <QPointer>
+
+class QToolButton;
+
+class pqGridFreeResponsiveSolves : public QObject
+{
+  Q_OBJECT
+  typedef QObject Superclass;
+
+public:
+  explicit pqGridFreeResponsiveSolves(QObject* parent = nullptr);
+  ~pqGridFreeResponsiveSolves() override;
+
+  void onStartup();
+  void onShutdown();
+
+  /// True for the progress text of a GridFree filter (its class name
+  /// without the "vtk" prefix, as ParaView shows it).
+  static bool IsGridFreeProgress(const QString& text);
+
+protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
+private Q_SLOTS:
+  void onProgress(const QString& text, int percent);
+  void onProgressEnd();
+  void onAbort();
+
+private:
+  bool IsOnAbortButton(QObject* watched, QEvent* event) const;
+
+  QPointer<QToolButton> AbortButton;
+  QElapsedTimer Running;
+  double TestAbortAfterSeconds = -1.0;
+  bool ProcessingEvents = false;
+  bool AbortEnabled = false;
+  bool Filtering = false;
+
+  Q_DISABLE_COPY(pqGridFreeResponsiveSolves)
+};
+
+#endif
