@@ -71,7 +71,6 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   const Boundary<DIM>& geometry = problem.GetBoundary();
   const bool biharmonic = built.Biharmonic;
   const int nc = built.Components;
-  const std::string& name = built.Name;
   auto warn = [&run](const std::string& text)
   {
     if (run.Warn)
@@ -79,6 +78,31 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       run.Warn(text);
     }
   };
+  // The output arrays are named after the boundary array; a probe array of
+  // the same name (a Plane's Normals chosen as boundary values, an earlier
+  // solve's T) is kept, and the solution takes the name NAME_Solution.
+  std::string name = built.Name;
+  auto collides = [pd](const std::string& stem)
+  {
+    for (const char* suffix : { "", "_Variance", "_Gradient", "_Hessian", "_Laplacian" })
+    {
+      if (pd->GetAbstractArray((stem + suffix).c_str()))
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  while (collides(name))
+  {
+    name += "_Solution";
+  }
+  if (name != built.Name)
+  {
+    GRIDFREE_WARN(<< "The probe has its own array '" << built.Name
+                  << "' (or one named after it): the solution is named '" << name
+                  << "' instead (its variance '" << name << "_Variance'), and the probe's array is kept.");
+  }
 
   const auto numPoints = static_cast<vtkIdType>(points.size());
   vtkIdType nonFinitePoints = 0;

@@ -62,6 +62,31 @@ def test_plane_probe_3d_accuracy_and_calibration():
     assert_accurate_and_calibrated(z_scores(output, saddle))
 
 
+def test_probe_array_named_like_the_boundary_array_is_kept():
+    # The Plane's own Normals chosen as boundary values: the probe's Normals
+    # stay, the solution is Normals_Solution, and a warning says so.
+    from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
+    sphere = sphere_boundary()
+    normals = vtkPolyDataNormals()
+    normals.SetInputData(sphere)
+    normals.Update()
+    boundary = normals.GetOutput()
+    probe = plane((-0.3, -0.3, 0.1), (0.3, -0.3, 0.1), (-0.3, 0.3, 0.1), 3)
+    probe.Update()
+    before = [probe.GetOutput().GetPointData().GetArray("Normals").GetTuple3(i) for i in range(16)]
+    solver = solver_for(boundary, probe.GetOutputPort(), walks=16, array="Normals")
+    messages = MessageCatcher(solver)
+    solver.Update()
+    pd = solver.GetOutput().GetPointData()
+    after = [pd.GetArray("Normals").GetTuple3(i) for i in range(16)]
+    assert after == before
+    assert pd.GetArray("Normals_Solution").GetNumberOfComponents() == 3
+    assert pd.GetArray("Normals_Solution_Variance") is not None
+    assert pd.GetScalars().GetName() == "Normals_Solution"
+    assert "named 'Normals_Solution'" in messages.warning_text(), messages.warning_text()
+    assert not messages.errors
+
+
 def test_image_probe_stays_image():
     image = vtkImageData()
     image.SetDimensions(12, 10, 4)
