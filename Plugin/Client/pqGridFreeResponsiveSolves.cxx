@@ -7,14 +7,24 @@
 #include "pqServerManagerModel.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkCommand.h"
+#include "vtkSMArrayListDomain.h"
+#include "vtkSMDomainIterator.h"
+#include "vtkSMInputProperty.h"
+#include "vtkSMPropertyIterator.h"
 #include "vtkSMProxy.h"
+#include "vtkSMStringVectorProperty.h"
+#include "vtkSmartPointer.h"
 
 #include <QApplication>
 #include <QEvent>
 #include <QEventLoop>
 #include <QMouseEvent>
+#include <QTimer>
 #include <QToolButton>
 #include <QWidget>
+
+#include <string>
 
 namespace
 {
@@ -99,6 +109,79 @@ void pqGridFreeResponsiveSolves::onStartup()
     &pqGridFreeResponsiveSolves::onProgressEnd, Qt::DirectConnection);
   QObject::connect(progress, &pqProgressManager::abort, this,
     &pqGridFreeResponsiveSolves::onAbort, Qt::DirectConnection);
+  QObject::connect(pqApplicationCore::instance()->getServerManagerModel(),
+    &pqServerManagerModel::sourceAdded, this, &pqGridFreeResponsiveSolves::onSourceAdded);
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onSourceAdded(pqPipelineSource* source)
+{
+  vtkSMProxy* proxy = source ? source->getProxy() : nullptr;
+  if (proxy && proxy->GetVTKClassName() && IsGridFreeClassName(proxy->GetVTKClassName()))
+  {
+    pqCoreUtilities::connect(proxy, vtkCommand::PropertyModifiedEvent, this,
+      SLOT(onPropertyModified(vtkObject*, unsigned long, void*)));
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onPropertyModified(
+  vtkObject* object, unsigned long, void* callData)
+{
+  auto proxy = vtkSMProxy::SafeDownCast(object);
+  const char* name = static_cast<const char*>(callData);
+  if (!proxy || !name || !vtkSMInputProperty::SafeDownCast(proxy->GetProperty(name)))
+  {
+    return;
+  }
+  // At once, so that the selection is pushed with the input (Change Input
+  // updates the filter and renders right away); once more after the change
+  // is complete, in case the array domain had not yet followed the input.
+  ReselectArraysOf(proxy, QString::fromUtf8(name));
+  vtkSmartPointer<vtkSMProxy> keep = proxy;
+  const QString input = QString::fromUtf8(name);
+  QTimer::singleShot(0, this, [keep, input]() { ReselectArraysOf(keep, input); });
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::ReselectArraysOf(vtkSMProxy* proxy, const QString& input)
+{
+  vtkSmartPointer<vtkSMPropertyIterator> it;
+  it.TakeReference(proxy->NewPropertyIterator());
+  for (it->Begin(); !it->IsAtEnd(); it->Next())
+  {
+    auto selection = vtkSMStringVectorProperty::SafeDownCast(it->GetProperty());
+    // Array selections (SetInputArrayToProcess: index, port, connection,
+    // association, name); one left at its XML default holds the index only.
+    if (!selection || !selection->GetCommand() ||
+      std::string(selection->GetCommand()) != "SetInputArrayToProcess")
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkSMDomainIterator> domains;
+    domains.TakeReference(selection->NewDomainIterator());
+    for (domains->Begin(); !domains->IsAtEnd(); domains->Next())
+    {
+      auto arrays = vtkSMArrayListDomain::SafeDownCast(domains->GetDomain());
+      vtkSMProperty* from = arrays ? arrays->GetRequiredProperty("Input") : nullptr;
+      if (!from || from != proxy->GetProperty(input.toUtf8().data()) ||
+        arrays->GetNumberOfStrings() == 0)
+      {
+        continue;
+      }
+      const char* current =
+        selection->GetNumberOfElements() == 5 ? selection->GetElement(4) : nullptr;
+      bool offered = false;
+      for (unsigned int k = 0; k < arrays->GetNumberOfStrings() && !offered; ++k)
+      {
+        offered = current && std::string(current) == arrays->GetString(k);
+      }
+      if (!offered)
+      {
+        selection->ResetToDomainDefaults();
+      }
+    }
+  }
 }
 
 //-----------------------------------------------------------------------------

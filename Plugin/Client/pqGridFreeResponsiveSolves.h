@@ -20,6 +20,12 @@
  * With a remote server the Abort button stays as ParaView leaves it: the
  * server cannot be reached while it computes.
  *
+ * It also re-selects an array when an input changes: after Change Input
+ * connects a Source (or another Boundary) to a GridFree filter, each array
+ * selection of that input that names no array of it (Source Array still
+ * holding its XML default) takes the input's first suitable array, as it
+ * would have had the input been connected when the filter was created.
+ *
  * For GUI tests (event playback cannot click while a filter runs: the
  * playback waits for the click that started it), the environment variable
  * GRIDFREE_TEST_ABORT_AFTER_SECONDS makes it click Abort itself once a
@@ -33,6 +39,9 @@
 #include <QPointer>
 
 class QToolButton;
+class pqPipelineSource;
+class vtkObject;
+class vtkSMProxy;
 
 class pqGridFreeResponsiveSolves : public QObject
 {
@@ -57,9 +66,12 @@ private Q_SLOTS:
   void onProgress(const QString& text, int percent);
   void onProgressEnd();
   void onAbort();
+  void onSourceAdded(pqPipelineSource* source);
+  void onPropertyModified(vtkObject* proxy, unsigned long, void* name);
 
 private:
   bool IsOnAbortButton(QObject* watched, QEvent* event) const;
+  static void ReselectArraysOf(vtkSMProxy* proxy, const QString& input);
 
   QPointer<QToolButton> AbortButton;
   QElapsedTimer Running;
