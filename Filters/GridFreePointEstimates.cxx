@@ -14,6 +14,7 @@
 #include "vtkDataSet.h"
 #include "vtkPointData.h"
 #include "vtkDoubleArray.h"
+#include "vtkIntArray.h"
 #include "vtkFieldData.h"
 #include "vtkOutputWindow.h"
 #include "vtkSmartPointer.h"
@@ -185,6 +186,38 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   batch.Derivatives = request;
   const int walks = batch.WalksPerPoint;
 
+  // Target-error mode: the standard error each point walks down to.
+  double target = 0.0;
+  if (s.TargetStandardError > 0.0)
+  {
+    target = s.TargetStandardError;
+    if (s.TargetErrorIsRelative)
+    {
+      if (!(built.ValueRange > 0.0))
+      {
+        vtkErrorWithObjectMacro(self, << "TargetStandardError is relative to the boundary values' "
+                                         "range, which is "
+                                      << (std::isnan(built.ValueRange)
+                                             ? "unknown (values given by expressions)"
+                                             : "zero (constant boundary values)")
+                                      << ": turn TargetErrorIsRelative off and give the target "
+                                         "in the solution's units.");
+        result.Completed = false;
+        return false;
+      }
+      target *= built.ValueRange;
+    }
+    batch.TargetStandardError = target;
+  }
+  vtkSmartPointer<vtkIntArray> walksAtPoint;
+  if (target > 0.0)
+  {
+    walksAtPoint = vtkSmartPointer<vtkIntArray>::New();
+    walksAtPoint->SetName("WalkCount");
+    walksAtPoint->SetNumberOfTuples(numPoints);
+    walksAtPoint->Fill(0);
+  }
+
   // Progressive refinement: the batch continues from the running sums the
   // caller kept (it forgot them if anything but WalksPerPoint changed) and
   // keeps its own.
@@ -199,7 +232,11 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     if (!announced && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
     {
       announced = true;
-      const double projected = p.Seconds * p.WalksToRun / static_cast<double>(p.WalksRun);
+      // In target-error mode the walks a point takes are not known ahead:
+      // the share of points finished tells the time instead.
+      const double projected = target > 0.0
+        ? (p.PointsFraction > 0.0 ? p.Seconds / p.PointsFraction : 0.0)
+        : p.Seconds * p.WalksToRun / static_cast<double>(p.WalksRun);
       if (projected >= kLongSolveSeconds)
       {
         GRIDFREE_WARN(<< "This solve will take about " << DescribeDuration(projected)
@@ -230,6 +267,10 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       }
     }
     steps->SetValue(i, counters.MeanSteps());
+    if (walksAtPoint)
+    {
+      walksAtPoint->SetValue(i, static_cast<int>(counters.Walks));
+    }
     escaped->SetValue(i, counters.EscapedFraction());
     truncated->SetValue(i, counters.TruncatedFraction());
     if (anyDerivative)
@@ -261,6 +302,10 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     pd->AddArray(laplacianVariance);
   }
   pd->AddArray(steps);
+  if (walksAtPoint)
+  {
+    pd->AddArray(walksAtPoint);
+  }
   pd->AddArray(escaped);
   pd->AddArray(truncated);
   pd->AddArray(distance);
@@ -288,6 +333,10 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     // Progressive refinement: walks per point taken from the kept sums.
     AddFieldValue(fd, "ResumedWalksPerPoint", static_cast<double>(startWalks));
     AddFieldValue(fd, "WalksRun", walksRun);
+    if (target > 0.0)
+    {
+      AddFieldValue(fd, "TargetStandardError", target);
+    }
     // The run's summary, ready to read in a spreadsheet view or a script.
     AddFieldValue(fd, "ProbePoints", static_cast<double>(numPoints));
     AddFieldValue(fd, "WalksPerSecond", walksPerSecond);
@@ -312,6 +361,27 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   {
     GRIDFREE_WARN(<< "Solve aborted: points not reached are NaN.");
     return false;
+  }
+  if (walksAtPoint)
+  {
+    // Points that took every walk allowed without reaching the target.
+    vtkIdType short_ = 0;
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      bool above = false;
+      for (int c = 0; c < nc; ++c)
+      {
+        above = above || !(variance->GetValue(i * nc + c) <= target * target);
+      }
+      short_ += (above && walksAtPoint->GetValue(i) >= walks) ? 1 : 0;
+    }
+    if (short_ > 0)
+    {
+      GRIDFREE_WARN(<< short_ << " of " << numPoints << " probe points took all " << walks
+                    << " walks (Walks Per Point, the most a point may take) without reaching "
+                       "the target standard error "
+                    << target << ": raise Walks Per Point or the target.");
+    }
   }
   // NaN results of finite probe points: walks whose coordinates overflowed
   // (points far beyond the boundary's scale) end with no boundary value.

@@ -19,11 +19,43 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
+#include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace gridfree
 {
+namespace
+{
+// The spread of the boundary values g, max - min over their components and
+// over every array that holds them (CSG operands; a two-sided boundary's
+// front and back); NaN when g is given by expressions only.
+double ValueRangeOf(const ProblemInputs& in, int nc, bool biharmonic)
+{
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  auto add = [&](vtkDataArray* values)
+  {
+    // Biharmonic values hold g and then h: only g's components count.
+    const int components = values ? values->GetNumberOfComponents() : 0;
+    for (int c = 0; c < (biharmonic ? std::min(nc, components) : components); ++c)
+    {
+      double range[2];
+      values->GetRange(range, c);
+      lo = std::min(lo, range[0]);
+      hi = std::max(hi, range[1]);
+    }
+  };
+  add(in.Values);
+  for (const auto& operand : in.CsgValues)
+  {
+    add(operand);
+  }
+  return hi >= lo ? hi - lo : std::numeric_limits<double>::quiet_NaN();
+}
+} // namespace
+
 struct ProblemBuilder::Internals
 {
   // What the last Resolve found.
@@ -424,6 +456,7 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
 
   out = BuiltProblem();
   out.Dimension = DIM;
+  out.ValueRange = ValueRangeOf(in, nc, biharmonic);
   out.Name = in.Name;
   out.Components = nc;
   out.Biharmonic = biharmonic;

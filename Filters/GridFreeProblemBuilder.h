@@ -36,6 +36,9 @@ struct BuiltProblem
   std::string Name = "Solution"; // of the solution arrays (the boundary array's name)
   int Components = 1;            // of the solution (g's; h's are as many)
   bool Biharmonic = false;
+  // max - min of the boundary values g over their components (NaN when g is
+  // given by expressions only): what a relative target error refers to.
+  double ValueRange = 0.0;
 
   template <int DIM>
   const Problem<DIM>& Get() const

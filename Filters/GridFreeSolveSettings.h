@@ -39,6 +39,12 @@ struct SolveSettings
 
   // The walks (the sampling settings every filter shares).
   int WalksPerPoint = 128;
+  // Target-error mode when positive: each point walks until the standard
+  // error of its value is at most this (WalksPerPoint the most it takes);
+  // relative to the boundary values' range (max - min of g) when
+  // TargetErrorIsRelative.
+  double TargetStandardError = 0.0;
+  bool TargetErrorIsRelative = false;
   double Epsilon = 1e-4;
   bool EpsilonIsRelative = true;
   int MaxSteps = 10000;

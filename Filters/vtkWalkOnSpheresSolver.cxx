@@ -260,6 +260,8 @@ gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
   s.BiharmonicStrategy = this->BiharmonicStrategy;
   s.NestedWalks = this->NestedWalks;
   s.WalksPerPoint = this->WalksPerPoint;
+  s.TargetStandardError = this->TargetStandardError;
+  s.TargetErrorIsRelative = this->TargetErrorIsRelative;
   s.Epsilon = this->Epsilon;
   s.EpsilonIsRelative = this->EpsilonIsRelative;
   s.MaxSteps = this->MaxSteps;
@@ -409,6 +411,8 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
   os << indent << "NestedWalks: " << this->NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";
+  os << indent << "TargetStandardError: " << this->TargetStandardError << "\n";
+  os << indent << "TargetErrorIsRelative: " << this->TargetErrorIsRelative << "\n";
   os << indent << "KeepRunningSums: " << (this->KeepRunningSums ? "On" : "Off") << "\n";
   os << indent << "Epsilon: " << this->Epsilon << "\n";
   os << indent << "EpsilonIsRelative: " << (this->EpsilonIsRelative ? "On" : "Off") << "\n";

@@ -431,6 +431,27 @@ public:
   vtkGetMacro(WalksPerPoint, int);
   ///@}
 
+  ///@{
+  /**
+   * Target-error mode (when TargetStandardError is positive; default 0, off):
+   * each probe point walks until the standard error of its value (the
+   * largest over the components) is at most TargetStandardError, checked
+   * after 128 walks and then every 32, and WalksPerPoint is the most a point
+   * takes. Points near the boundary stop early, points deep inside walk
+   * longer. The decision uses only the point's own walks, so the result is
+   * the same for any thread count; it is that of a fixed-count solve cut
+   * short at each point's count (array WalkCount). With
+   * TargetErrorIsRelative the target is a fraction of the boundary values'
+   * range (max - min of the boundary array; not available for values given
+   * by expressions). Kept running sums are not used in this mode.
+   */
+  vtkSetClampMacro(TargetStandardError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(TargetStandardError, double);
+  vtkSetMacro(TargetErrorIsRelative, bool);
+  vtkGetMacro(TargetErrorIsRelative, bool);
+  vtkBooleanMacro(TargetErrorIsRelative, bool);
+  ///@}
+
   /**
    * Doubles WalksPerPoint (up to VTK_INT_MAX): the next update adds as many
    * walks as the last one had, continuing from the kept running sums.
@@ -568,6 +589,8 @@ protected:
   int BiharmonicStrategy = TREE_WALKING;
   int NestedWalks = 1;
   int WalksPerPoint = 128;
+  double TargetStandardError = 0.0;
+  bool TargetErrorIsRelative = false;
   double Epsilon = 1e-4;
   bool EpsilonIsRelative = true;
   int MaxSteps = 10000;

@@ -20,7 +20,8 @@ solver.SetBoundaryData(boundary)
 solver.SetProbeConnection(plane.GetOutputPort())
 solver.SetWalksPerPoint(16)
 solver.Update()
-out = solver.GetOutput().GetPointData().GetArray("Normals")
+# The plane keeps its own Normals; the solution is Normals_Solution.
+out = solver.GetOutput().GetPointData().GetArray("Normals_Solution")
 assert out is not None and out.GetNumberOfComponents() == 3 and out.GetNumberOfTuples() == 9
 
 # The server-side object of the plugin's proxy is the same class.

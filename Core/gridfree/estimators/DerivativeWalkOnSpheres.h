@@ -187,6 +187,11 @@ public:
   // walks (at most 255), a small cost in variance for long runs only.
   static constexpr int kControlBlock = 256;
 
+  // Whether the next EstimatePoint call continues the walks of the point the
+  // previous call ran (firstWalk where that one stopped): the block's control
+  // history is then kept, and the calls give the numbers of one call.
+  void ContinueBlock(bool continuing) { this->Continuing = continuing; }
+
   // Runs walks firstWalk .. firstWalk + walks − 1 from the probe point (the
   // random streams are keyed as in WalkOnSpheresEstimator::EstimatePoint) and
   // adds their samples to stats (Layout().Size components): a
@@ -312,7 +317,7 @@ private:
     for (int w = 0; w < walks; ++w)
     {
       const std::uint64_t index = firstWalk + static_cast<std::uint64_t>(w);
-      if (w == 0 || index % kControlBlock == 0)
+      if ((w == 0 && !this->Continuing) || index % kControlBlock == 0)
       {
         history.Reset();
       }
@@ -502,6 +507,7 @@ private:
   std::vector<double> Pilot;
   // Running means of the walks before, in the current control block.
   RunningStatistics History;
+  bool Continuing = false;
 };
 } // namespace gridfree
 

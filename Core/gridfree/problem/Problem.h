@@ -36,6 +36,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace gridfree
@@ -52,6 +53,13 @@ struct BatchRequest
   // (DerivativeWalkOnSpheres.h), which also gives the value; none runs the
   // plain one (WalkOnSpheres.h). Control variates are off unless asked for.
   DerivativeRequest Derivatives = NoDerivatives();
+  // Target-error mode (when positive): a point stops walking once the
+  // standard error of its value (the largest over the solution's components)
+  // is at most this, checked after kTargetFirstWalks walks and then every
+  // kTargetCheckWalks; WalksPerPoint is then the most any point takes. The
+  // decision depends only on the point's own walks, so the result is the
+  // same for any thread count. Kept sums are not used in this mode.
+  double TargetStandardError = 0.0;
 
   bool DerivativeWalks() const
   {
@@ -76,6 +84,9 @@ struct BatchProgress
   std::uint64_t WalksRun = 0;
   double WalksToRun = 0.0;
   double Seconds = 0.0;
+  // Points finished over points (target-error mode: the walks a point takes
+  // are not known ahead, so this is the measure of progress).
+  double PointsFraction = 0.0;
 };
 
 // Called on the calling thread about ten times a second; returning false
@@ -142,6 +153,14 @@ public:
   // it. A multiple of the derivative estimator's control blocks (256), so
   // chunks give the same numbers as one call.
   static constexpr int kChunkWalks = 1024;
+  // Target-error mode: walks before the first check, and between checks. The
+  // first check waits for 128 walks: a point that stops on a lucky small
+  // spread reports too small an error, and near the boundary, where walk
+  // values are skewed (most walks end at once, a few travel far), 64 walks
+  // gave |z| up to 5.5 on the test's probe, 128 at most 4.3 (the same as a
+  // fixed count of walks there).
+  static constexpr int kTargetFirstWalks = 128;
+  static constexpr int kTargetCheckWalks = 32;
 
   // Throws std::invalid_argument for a problem no walk can solve (no
   // boundary, ε not positive, a screened equation without screening, a
@@ -227,6 +246,12 @@ public:
     // estimator, whose walks are independent).
     const int blockWalks = derivativeWalks ? DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
     const int resumeBlock = derivativeWalks ? blockWalks : 1;
+    const double target = request.TargetStandardError;
+    if (target > 0.0 && kept)
+    {
+      kept->Clear();
+      kept = nullptr;
+    }
     const bool resumed = kept &&
       kept->CanResume(numPoints, sampleSize, resumeBlock, static_cast<std::uint64_t>(walks));
     if (kept && !resumed)
@@ -248,10 +273,12 @@ public:
       }
     };
 
+    const int valueComponents = this->SolutionComponents();
     const int threadCount = ResolveThreadCount(request.Threads);
     const std::size_t blocksPerPoint =
       static_cast<std::size_t>((walks - startWalks + blockWalks - 1) / blockWalks);
-    const bool walkLevel = threadCount > 1 && numPoints < 2 * static_cast<std::size_t>(threadCount) &&
+    const bool walkLevel = target <= 0.0 && threadCount > 1 &&
+      numPoints < 2 * static_cast<std::size_t>(threadCount) &&
       blocksPerPoint > 1 &&
       static_cast<double>(numPoints) * (walks - startWalks) * sampleSize <= 16.0 * 1024 * 1024;
 
@@ -268,6 +295,7 @@ public:
       p.WalksRun = walksDone.load(std::memory_order_relaxed);
       p.WalksToRun = totalWalks;
       p.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      p.PointsFraction = fraction;
       p.Fraction = std::max(
         fraction, totalWalks > 0.0 ? std::min(1.0, static_cast<double>(p.WalksRun) / totalWalks) : 1.0);
       return progress(p);
@@ -306,6 +334,21 @@ public:
               unsigned char keptStatus = 0;
               startPoint(i, stats, counters, keptStatus);
               auto status = static_cast<DerivativeStatus>(keptStatus);
+              if (target > 0.0)
+              {
+                if (!EstimateToTarget(estimator, points[i].data(), seed, walks, target,
+                      valueComponents, stats, counters, cancel, walksDone, status))
+                {
+                  return;
+                }
+                if (derivativeWalks)
+                {
+                  counts[static_cast<int>(status)] += 1;
+                }
+                sum.Add(counters);
+                sink(i, stats, counters, status);
+                continue;
+              }
               const int firstLeg = std::max(keepAt, startWalks);
               if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks,
                     std::min(firstLeg, walks), stats, counters, cancel, walksDone, status))
@@ -419,10 +462,17 @@ private:
   template <class Estimator>
   static bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed,
     int from, int to, RunningStatistics& stats, WalkCounters& counters,
-    const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, DerivativeStatus& status)
+    const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, DerivativeStatus& status,
+    bool continuing = false)
   {
     for (int first = from; first < to; first += kChunkWalks)
     {
+      if constexpr (HasContinueBlock<Estimator>::value)
+      {
+        // The derivative estimator keeps its control history across calls
+        // that continue the same point's walks (chunks, target-error legs).
+        estimator.ContinueBlock(continuing || first > from);
+      }
       if (first > from && cancel.load(std::memory_order_relaxed))
       {
         return false;
@@ -443,6 +493,52 @@ private:
     }
     return true;
   }
+
+  // Target-error mode: walks 0, 1, ... of one point until the standard error
+  // of its value is at most `target` (checked after kTargetFirstWalks walks,
+  // then every kTargetCheckWalks) or `most` walks have run. The walks are
+  // those of a fixed-count run, in the same order: stopping early only drops
+  // the later ones. Returns false when aborted.
+  template <class Estimator>
+  static bool EstimateToTarget(Estimator& estimator, const double xyz[3], std::uint64_t seed,
+    int most, double target, int valueComponents, RunningStatistics& stats,
+    WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
+    DerivativeStatus& status)
+  {
+    const double targetVariance = target * target;
+    int walked = 0;
+    while (walked < most)
+    {
+      const int leg = std::min(walked == 0 ? kTargetFirstWalks : kTargetCheckWalks, most - walked);
+      if (!EstimateInChunks(estimator, xyz, seed, walked, walked + leg, stats, counters, cancel,
+            done, status, walked > 0))
+      {
+        return false;
+      }
+      walked += leg;
+      bool reached = true;
+      for (int c = 0; c < valueComponents && reached; ++c)
+      {
+        // NaN (a component that cannot be estimated) never reaches it.
+        reached = stats.VarianceOfMean(c) <= targetVariance;
+      }
+      if (reached)
+      {
+        break;
+      }
+    }
+    return true;
+  }
+
+  template <class Estimator, class = void>
+  struct HasContinueBlock : std::false_type
+  {
+  };
+  template <class Estimator>
+  struct HasContinueBlock<Estimator,
+    std::void_t<decltype(std::declval<Estimator&>().ContinueBlock(true))>> : std::true_type
+  {
+  };
 
   // Few points, several threads: each point's walks in blocks spread over
   // the threads, each block recorded and then replayed in walk order, so the
