@@ -334,35 +334,30 @@ public:
               unsigned char keptStatus = 0;
               startPoint(i, stats, counters, keptStatus);
               auto status = static_cast<DerivativeStatus>(keptStatus);
-              if (target > 0.0)
-              {
-                if (!EstimateToTarget(estimator, points[i].data(), seed, walks, target,
-                      valueComponents, stats, counters, cancel, walksDone, status))
+              // The walks of a fixed count (continuing from kept sums, and
+              // keeping them at the resume point), or those a target needs.
+              auto runWalks = [&]() {
+                if (target > 0.0)
                 {
-                  return;
+                  return EstimateToTarget(estimator, points[i].data(), seed, walks, target,
+                    valueComponents, stats, counters, cancel, walksDone, status);
                 }
-                if (derivativeWalks)
+                const int firstLeg = std::min(std::max(keepAt, startWalks), walks);
+                if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, firstLeg,
+                      stats, counters, cancel, walksDone, status))
                 {
-                  counts[static_cast<int>(status)] += 1;
+                  return false;
                 }
-                sum.Add(counters);
-                sink(i, stats, counters, status);
-                continue;
-              }
-              const int firstLeg = std::max(keepAt, startWalks);
-              if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks,
-                    std::min(firstLeg, walks), stats, counters, cancel, walksDone, status))
+                if (kept && keepAt >= startWalks)
+                {
+                  kept->Save(i, stats, counters, static_cast<unsigned char>(status));
+                }
+                return EstimateInChunks(estimator, points[i].data(), seed, firstLeg, walks, stats,
+                  counters, cancel, walksDone, status);
+              };
+              if (!runWalks())
               {
                 return; // aborted: the point never reaches the sink
-              }
-              if (kept && keepAt >= startWalks)
-              {
-                kept->Save(i, stats, counters, static_cast<unsigned char>(status));
-              }
-              if (!EstimateInChunks(estimator, points[i].data(), seed, std::min(firstLeg, walks),
-                    walks, stats, counters, cancel, walksDone, status))
-              {
-                return;
               }
               if (derivativeWalks)
               {
