@@ -16,6 +16,7 @@
 #include "vtkFieldData.h"
 #include "vtkImplicitFunction.h"
 #include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -119,6 +120,12 @@ void vtkWalkOnSpheresSolver::SetBoundaryData(vtkDataObject* data)
   this->SetInputData(BoundaryPort, data);
 }
 
+//------------------------------------------------------------------------------
+void vtkWalkOnSpheresSolver::RemoveAllBoundaryConnections()
+{
+  this->RemoveAllInputConnections(BoundaryPort);
+}
+
 void vtkWalkOnSpheresSolver::SetProbeConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(ProbePort, output);
@@ -155,6 +162,8 @@ int vtkWalkOnSpheresSolver::FillInputPortInformation(int port, vtkInformation* i
     // by block as the composite pipeline would otherwise do.
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
     info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+    // Several surfaces make one boundary (as the blocks of a composite).
+    info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
   }
   else
   {
@@ -226,7 +235,10 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
   vtkInformation* probeInfo = inputVector[ProbePort]->GetInformationObject(0);
   for (int port : { BoundaryPort, SourcePort })
   {
-    this->RequestSharedInput(inputVector[port]->GetInformationObject(0));
+    for (int c = 0; c < inputVector[port]->GetNumberOfInformationObjects(); ++c)
+    {
+      this->RequestSharedInput(inputVector[port]->GetInformationObject(c));
+    }
   }
   if (probeInfo)
   {
@@ -277,6 +289,39 @@ gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
 }
 
 //------------------------------------------------------------------------------
+// The Boundary port's data: its one connection's, or the surfaces of several
+// connections as the blocks of one composite (the probe left out: ParaView's
+// input dialog first puts every selected dataset on the Boundary).
+vtkDataObject* vtkWalkOnSpheresSolver::BoundaryOf(
+  vtkInformationVector* connections, vtkDataObject* probe)
+{
+  std::vector<vtkDataObject*> surfaces;
+  for (int c = 0; c < connections->GetNumberOfInformationObjects(); ++c)
+  {
+    vtkDataObject* data = vtkDataObject::GetData(connections, c);
+    if (data)
+    {
+      surfaces.push_back(data);
+    }
+  }
+  if (surfaces.size() > 1)
+  {
+    surfaces.erase(std::remove(surfaces.begin(), surfaces.end(), probe), surfaces.end());
+  }
+  if (surfaces.size() <= 1)
+  {
+    return surfaces.empty() ? nullptr : surfaces[0];
+  }
+  this->AssembledBoundary = vtkSmartPointer<vtkMultiBlockDataSet>::New();
+  this->AssembledBoundary->SetNumberOfBlocks(static_cast<unsigned int>(surfaces.size()));
+  for (std::size_t b = 0; b < surfaces.size(); ++b)
+  {
+    this->AssembledBoundary->SetBlock(static_cast<unsigned int>(b), surfaces[b]);
+  }
+  return this->AssembledBoundary;
+}
+
+//------------------------------------------------------------------------------
 int vtkWalkOnSpheresSolver::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -287,7 +332,8 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastResumedWalksPerPoint = 0;
 
   // The inputs as this rank received them: what kept running sums are keyed on.
-  vtkDataObject* const boundaryPiece = vtkDataObject::GetData(inputVector[BoundaryPort], 0);
+  vtkDataObject* const boundaryPiece = this->BoundaryOf(
+    inputVector[BoundaryPort], vtkDataObject::GetData(inputVector[ProbePort], 0));
   vtkDataObject* const sourcePiece = vtkDataObject::GetData(inputVector[SourcePort], 0);
   // A distributed run gathers the boundary and source first, before anything
   // can return early: every rank must take part in the exchange.

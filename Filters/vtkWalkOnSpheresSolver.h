@@ -115,7 +115,9 @@
 
 #include "GridFreeFiltersModule.h" // for export macro
 #include "vtkDataSetAlgorithm.h"
-#include "vtkTimeStamp.h" // for SettingsTime
+#include "vtkMultiBlockDataSet.h" // for AssembledBoundary
+#include "vtkSmartPointer.h"      // for AssembledBoundary
+#include "vtkTimeStamp.h"         // for SettingsTime
 
 #include <cstdint> // for std::uint64_t
 #include <memory>  // for std::unique_ptr
@@ -147,6 +149,15 @@ public:
    */
   void SetBoundaryConnection(vtkAlgorithmOutput* output);
   void SetBoundaryData(vtkDataObject* data);
+  /**
+   * The Boundary port takes several connections (AddInputConnection(0, ...)):
+   * their surfaces are one boundary, exactly as the blocks of a composite
+   * dataset (one polygon soup, or CSG operands with a CsgOperation). A
+   * dataset connected both as one of several boundaries and as the Probe is
+   * the probe only: ParaView's input dialog first puts every selected
+   * dataset on the Boundary. RemoveAllBoundaryConnections clears the port.
+   */
+  void RemoveAllBoundaryConnections();
   void SetProbeConnection(vtkAlgorithmOutput* output);
   void SetProbeData(vtkDataObject* data);
   void SetSourceConnection(vtkAlgorithmOutput* output);
@@ -558,6 +569,9 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  /// The Boundary port's data: one connection's, or several as one composite.
+  vtkDataObject* BoundaryOf(vtkInformationVector* connections, vtkDataObject* probe);
+
   /**
    * The Boundary and Source inputs the solve uses, from `boundary` and
    * `source` as this rank received them. Here they are used as they are;
@@ -603,6 +617,8 @@ protected:
   double DerivativeDirection[3] = { 1.0, 0.0, 0.0 };
 
   bool KeepRunningSums = true;
+  // Several Boundary connections as one composite (kept for the execution).
+  vtkSmartPointer<vtkMultiBlockDataSet> AssembledBoundary;
 
   vtkIdType LastNumberOfWalks = 0;
   double LastSolveSeconds = 0.0;

@@ -54,7 +54,8 @@ points = probe.GetDataInformation().GetNumberOfPoints()
 # paraview.simple would connect the active source (the probe) to the first
 # input, Boundary: leave it empty explicitly, as a GUI user would.
 solver = pvs.WalkOnSpheresSolver(Boundary=None, Probe=probe)
-assert solver.Boundary is None
+# (Boundary takes several surfaces: its value is a list, here empty.)
+assert not solver.Boundary
 assert solver.ImplicitBoundary.GetXMLLabel() == "None"  # the default
 assert abs(solver.LipschitzBound - 1.0) < 1e-15
 available = solver.GetProperty("ImplicitBoundary").Available

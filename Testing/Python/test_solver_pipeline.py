@@ -87,6 +87,49 @@ def test_probe_array_named_like_the_boundary_array_is_kept():
     assert not messages.errors
 
 
+def test_several_boundary_connections_are_one_boundary():
+    # Two halves of the sphere on two connections of the Boundary port give
+    # the numbers of the same halves grouped in one multiblock; the probe,
+    # also connected as a boundary, is the probe only.
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPlane
+    from vtkmodules.vtkFiltersCore import vtkClipPolyData
+    halves = []
+    for sign in (1.0, -1.0):
+        plane_function = vtkPlane()
+        plane_function.SetNormal(0.0, 0.0, sign)
+        clip = vtkClipPolyData()
+        clip.SetInputData(sphere_boundary())
+        clip.SetClipFunction(plane_function)
+        clip.Update()
+        halves.append(clip.GetOutput())
+    probe = plane((-0.5, -0.5, 0.3), (0.5, -0.5, 0.3), (-0.5, 0.5, 0.3), 7)
+    probe.Update()
+
+    grouped = vtkMultiBlockDataSet()
+    grouped.SetNumberOfBlocks(2)
+    grouped.SetBlock(0, halves[0])
+    grouped.SetBlock(1, halves[1])
+    one = solver_for(grouped, probe.GetOutputPort(), walks=64)
+    one.Update()
+
+    several = solver_for(halves[0], probe.GetOutputPort(), walks=64)
+    several.AddInputDataObject(0, halves[1])
+    several.AddInputConnection(0, probe.GetOutputPort())  # the probe: left out
+    messages = MessageCatcher(several)
+    several.Update()
+    assert not messages.errors and not messages.warnings, messages.warning_text()
+    a = one.GetOutput().GetPointData().GetArray("T")
+    b = several.GetOutput().GetPointData().GetArray("T")
+    assert [a.GetValue(i) for i in range(64)] == [b.GetValue(i) for i in range(64)]
+    scores = z_scores(several.GetOutput(), saddle)  # 64 points
+    assert max(abs(z) for z in scores) < 5.0
+    assert 0.5 < sum(z * z for z in scores) / len(scores) < 1.6
+
+    several.RemoveAllBoundaryConnections()
+    several.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    assert several.GetNumberOfInputConnections(0) == 0
+
+
 def test_image_probe_stays_image():
     image = vtkImageData()
     image.SetDimensions(12, 10, 4)
