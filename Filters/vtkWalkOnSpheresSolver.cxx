@@ -18,8 +18,10 @@
 #include "vtkInformation.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkInformationVector.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <algorithm>
@@ -169,11 +171,10 @@ int vtkWalkOnSpheresSolver::FillInputPortInformation(int port, vtkInformation* i
   {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
   }
-  // The boundary mesh is optional when an implicit boundary is set.
-  if (port == SourcePort || port == BoundaryPort)
-  {
-    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  }
+  // The boundary mesh is optional when an implicit boundary is set. The
+  // probe is not, but a missing one is reported by RequestData in words of
+  // this filter ("No Probe input ...") rather than by the executive.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
@@ -183,11 +184,18 @@ int vtkWalkOnSpheresSolver::RequestDataObject(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkDataSet* probe = vtkDataSet::GetData(inputVector[ProbePort], 0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   if (!probe)
   {
-    return 1; // reported in RequestData
+    // An empty polygonal output until a probe is connected, so that the
+    // missing input is reported once, by RequestData, in one line.
+    if (!vtkDataSet::GetData(outInfo))
+    {
+      vtkNew<vtkPolyData> empty;
+      outInfo->Set(vtkDataObject::DATA_OBJECT(), empty);
+    }
+    return 1;
   }
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkDataSet* output = vtkDataSet::GetData(outInfo);
   if (!output || !output->IsA(probe->GetClassName()))
   {

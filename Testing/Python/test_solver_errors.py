@@ -45,6 +45,19 @@ def test_no_boundary_input():
     assert "ImplicitBoundary" in catcher.error_text()
 
 
+def test_no_probe_input_is_one_error_of_the_solver():
+    # Not the executive's "did not create output ... DATA_TYPE_NAME" nor
+    # "Input port 1 ... has 0 connections": the solver says what to connect.
+    from gridfree_testing import sphere_boundary
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    catcher = MessageCatcher(solver, solver.GetExecutive())
+    solver.SetBoundaryData(sphere_boundary())
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.Update()
+    ours = [e for e in catcher.errors if "returned failure" not in e]
+    assert len(ours) == 1 and "No Probe input" in ours[0], catcher.error_text()
+
+
 def test_empty_boundary():
     _, catcher = run(boundary=vtkPolyData())
     assert "boundary is empty" in catcher.error_text()
