@@ -4,6 +4,7 @@
 #include "pqCoreUtilities.h"
 #include "pqPipelineSource.h"
 #include "pqProgressManager.h"
+#include "pqProxy.h"
 #include "pqServerManagerModel.h"
 
 #include "vtkAlgorithm.h"
@@ -11,6 +12,7 @@
 #include "vtkSMArrayListDomain.h"
 #include "vtkSMDomainIterator.h"
 #include "vtkSMInputProperty.h"
+#include "vtkSMIntVectorProperty.h"
 #include "vtkSMPropertyIterator.h"
 #include "vtkSMProxy.h"
 #include "vtkSMStringVectorProperty.h"
@@ -121,6 +123,35 @@ void pqGridFreeResponsiveSolves::onSourceAdded(pqPipelineSource* source)
   {
     pqCoreUtilities::connect(proxy, vtkCommand::PropertyModifiedEvent, this,
       SLOT(onPropertyModified(vtkObject*, unsigned long, void*)));
+    QObject::connect(source, QOverload<pqPipelineSource*>::of(&pqPipelineSource::dataUpdated),
+      this, &pqGridFreeResponsiveSolves::onDataUpdated);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqGridFreeResponsiveSolves::onDataUpdated(pqPipelineSource* source)
+{
+  vtkSMProxy* proxy = source->getProxy();
+  auto walks = vtkSMIntVectorProperty::SafeDownCast(proxy->GetProperty("WalksPerPoint"));
+  auto solver = vtkAlgorithm::SafeDownCast(proxy->GetClientSideObject());
+  if (!walks || !solver || source->modifiedState() != pqProxy::UNMODIFIED)
+  {
+    return;
+  }
+  // The walks the solver used (Refine doubles them on the solver itself).
+  int inUse = walks->GetElement(0);
+  vtkSmartPointer<vtkSMIntVectorProperty> info = vtkSMIntVectorProperty::SafeDownCast(
+    proxy->GetProperty("WalksPerPointInUse"));
+  if (info)
+  {
+    proxy->UpdatePropertyInformation(info);
+    inUse = info->GetElement(0);
+  }
+  if (inUse != walks->GetElement(0) && inUse > 0)
+  {
+    walks->SetElement(0, inUse);
+    proxy->UpdateVTKObjects(); // the same value: the solver is not modified
+    source->setModifiedState(pqProxy::UNMODIFIED);
   }
 }
 

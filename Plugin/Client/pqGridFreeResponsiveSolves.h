@@ -26,6 +26,10 @@
  * holding its XML default) takes the input's first suitable array, as it
  * would have had the input been connected when the filter was created.
  *
+ * And it keeps the panel's Walks Per Point true after Refine, which doubles
+ * the walks on the solver itself: once the solver has updated, the property
+ * takes the solver's count (without marking the filter modified).
+ *
  * For GUI tests (event playback cannot click while a filter runs: the
  * playback waits for the click that started it), the environment variable
  * GRIDFREE_TEST_ABORT_AFTER_SECONDS makes it click Abort itself once a
@@ -68,6 +72,7 @@ private Q_SLOTS:
   void onAbort();
   void onSourceAdded(pqPipelineSource* source);
   void onPropertyModified(vtkObject* proxy, unsigned long, void* name);
+  void onDataUpdated(pqPipelineSource* source);
 
 private:
   bool IsOnAbortButton(QObject* watched, QEvent* event) const;
