@@ -365,7 +365,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   if (walksAtPoint)
   {
     // Points that took every walk allowed without reaching the target.
-    vtkIdType short_ = 0;
+    vtkIdType unreached = 0;
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
       bool above = false;
@@ -373,11 +373,11 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       {
         above = above || !(variance->GetValue(i * nc + c) <= target * target);
       }
-      short_ += (above && walksAtPoint->GetValue(i) >= walks) ? 1 : 0;
+      unreached += (above && walksAtPoint->GetValue(i) >= walks) ? 1 : 0;
     }
-    if (short_ > 0)
+    if (unreached > 0)
     {
-      GRIDFREE_WARN(<< short_ << " of " << numPoints << " probe points took all " << walks
+      GRIDFREE_WARN(<< unreached << " of " << numPoints << " probe points took all " << walks
                     << " walks (Walks Per Point, the most a point may take) without reaching "
                        "the target standard error "
                     << target << ": raise Walks Per Point or the target.");
