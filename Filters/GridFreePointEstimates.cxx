@@ -229,7 +229,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   bool announced = false;
   auto reportProgress = [&](const BatchProgress& p)
   {
-    if (!announced && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
+    if (!announced && run.AnnounceLongSolves && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
     {
       announced = true;
       // In target-error mode the walks a point takes are not known ahead:
@@ -375,12 +375,22 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       }
       unreached += (above && walksAtPoint->GetValue(i) >= walks) ? 1 : 0;
     }
-    if (unreached > 0)
+    result.PointsShortOfTarget = static_cast<std::int64_t>(unreached);
+    if (target > 0.0 && fd)
+    {
+      AddFieldValue(fd, "PointsShortOfTarget", static_cast<double>(unreached));
+    }
+    // Said once, by the solve that starts afresh: a solve that continues
+    // from kept sums (Refine, Refine Until Target's rounds) is refining on
+    // purpose, and PointsShortOfTarget has the count.
+    if (unreached > 0 && startWalks == 0 && run.ReportShortOfTarget)
     {
       GRIDFREE_WARN(<< unreached << " of " << numPoints << " probe points took all " << walks
                     << " walks (Walks Per Point, the most a point may take) without reaching "
                        "the target standard error "
-                    << target << ": raise Walks Per Point or the target.");
+                    << target
+                    << ": raise Walks Per Point or the target, or refine (Refine Until Target "
+                       "in the GUI).");
     }
   }
   // NaN results of finite probe points: walks whose coordinates overflowed

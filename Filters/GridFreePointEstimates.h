@@ -40,6 +40,12 @@ struct PointEstimateRun
   // Receives each warning (the solver reports it at once; filters that run
   // many batches report each distinct one once).
   std::function<void(const std::string&)> Warn;
+  // Warn when the batch is projected to take long (not under a time budget,
+  // which bounds it).
+  bool AnnounceLongSolves = true;
+  // Warn about points short of the target standard error (a time budget
+  // says it for the whole solve instead).
+  bool ReportShortOfTarget = true;
 };
 
 struct PointEstimateSummary
@@ -48,6 +54,9 @@ struct PointEstimateSummary
   std::uint64_t WalksRun = 0;
   double Seconds = 0.0;
   int ResumedWalksPerPoint = 0;
+  // Target-error mode: points that took every walk allowed with a standard
+  // error still above the target.
+  std::int64_t PointsShortOfTarget = 0;
 };
 
 // The coordinates of `data`'s points, in order.

@@ -7,6 +7,7 @@
 #include "GridFreeProblemBuilder.h"
 #include "GridFreeSolveSettings.h"
 #include "GridFreeSolverCache.h"
+#include "GridFreeTimeBudget.h"
 #include "GridFreeWholeInputRequest.h"
 
 #include "vtkAlgorithmOutput.h"
@@ -26,6 +27,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <string>
@@ -66,6 +68,19 @@ void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
   {
     this->WalksPerPoint = walks;
     // Only the walk count changed: the kept running sums stay valid.
+    this->ChangingOnlyWalks = true;
+    this->Modified();
+    this->ChangingOnlyWalks = false;
+  }
+}
+
+void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
+{
+  seconds = std::isfinite(seconds) ? std::max(seconds, 0.0) : 0.0;
+  if (seconds != this->TimeBudgetSeconds)
+  {
+    this->TimeBudgetSeconds = seconds;
+    // The budget only decides how far the walks go: kept sums stay valid.
     this->ChangingOnlyWalks = true;
     this->Modified();
     this->ChangingOnlyWalks = false;
@@ -338,6 +353,8 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastSolveSeconds = 0.0;
   this->LastDimension = 0;
   this->LastResumedWalksPerPoint = 0;
+  this->LastPointsShortOfTarget = 0;
+  this->LastWalksPerPointReached = 0;
 
   // The inputs as this rank received them: what kept running sums are keyed on.
   vtkDataObject* const boundaryPiece = this->BoundaryOf(
@@ -407,14 +424,32 @@ int vtkWalkOnSpheresSolver::RequestData(
   {
     const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);
     gridfree::PointEstimateRun run;
-    run.Kept = this->KeepRunningSums ? &this->Cache->Sums : nullptr;
+    // A time budget's rounds continue from each other's sums, kept or not.
+    const bool budgeted = this->TimeBudgetSeconds > 0.0;
+    run.Kept = this->KeepRunningSums || budgeted ? &this->Cache->Sums : nullptr;
     run.Warn = [this](const std::string& text) { vtkWarningMacro(<< text); };
     gridfree::PointEstimateSummary summary;
     try
     {
       // False when aborted: the points not reached are NaN, and said so.
-      gridfree::EstimateAtPoints(this, problem, settings, points, output->GetPointData(),
-        output->GetFieldData(), run, summary);
+      if (budgeted)
+      {
+        gridfree::TimeBudgetSummary rounds;
+        if (gridfree::EstimateWithinTimeBudget(this, problem, settings, this->TimeBudgetSeconds,
+              points, output->GetPointData(), output->GetFieldData(), run, summary, rounds))
+        {
+          this->LastWalksPerPointReached = rounds.WalksPerPointReached;
+        }
+      }
+      else if (gridfree::EstimateAtPoints(this, problem, settings, points,
+                 output->GetPointData(), output->GetFieldData(), run, summary))
+      {
+        this->LastWalksPerPointReached = this->WalksPerPoint;
+      }
+      if (!this->KeepRunningSums)
+      {
+        this->Cache->Sums.Clear();
+      }
     }
     catch (const std::exception& e)
     {
@@ -426,6 +461,7 @@ int vtkWalkOnSpheresSolver::RequestData(
     this->LastSolveSeconds = summary.Seconds;
     this->LastDimension = problem.Dimension;
     this->LastResumedWalksPerPoint = summary.ResumedWalksPerPoint;
+    this->LastPointsShortOfTarget = static_cast<vtkIdType>(summary.PointsShortOfTarget);
   }
   if (!ok)
   {
@@ -482,6 +518,9 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
      << this->DerivativeDirection[1] << " " << this->DerivativeDirection[2] << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastResumedWalksPerPoint: " << this->LastResumedWalksPerPoint << "\n";
+  os << indent << "LastPointsShortOfTarget: " << this->LastPointsShortOfTarget << "\n";
+  os << indent << "TimeBudgetSeconds: " << this->TimeBudgetSeconds << "\n";
+  os << indent << "LastWalksPerPointReached: " << this->LastWalksPerPointReached << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
   os << indent << "LastDimension: " << this->LastDimension << "\n";
 }

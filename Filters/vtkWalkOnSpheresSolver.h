@@ -435,8 +435,8 @@ public:
    * last solve (same inputs, same settings) and KeepRunningSums is on, a
    * larger value continues from the running sums kept by that solve and runs
    * only the missing walks; the result is bit for bit that of one solve with
-   * all of them. (With derivative walks, the sums are kept at the last
-   * multiple of 256 walks, so up to 255 walks per point are run again.)
+   * all of them, with or without derivative walks (their control-block
+   * state is kept with the sums).
    */
   virtual void SetWalksPerPoint(int walks);
   vtkGetMacro(WalksPerPoint, int);
@@ -454,7 +454,10 @@ public:
    * short at each point's count (array WalkCount). With
    * TargetErrorIsRelative the target is a fraction of the boundary values'
    * range (max - min of the boundary array; not available for values given
-   * by expressions). Kept running sums are not used in this mode.
+   * by expressions). Progressive refinement works in this mode too: a
+   * larger WalksPerPoint (Refine) keeps the points that reached the target
+   * and continues the others, with the result of one solve at that maximum;
+   * GetLastPointsShortOfTarget() says how many points are still above it.
    */
   vtkSetClampMacro(TargetStandardError, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(TargetStandardError, double);
@@ -462,6 +465,31 @@ public:
   vtkGetMacro(TargetErrorIsRelative, bool);
   vtkBooleanMacro(TargetErrorIsRelative, bool);
   ///@}
+
+  ///@{
+  /**
+   * Time budget in seconds (default 0, off). When positive, the solve runs
+   * in rounds of 128, 256, 512, ... walks per point up to WalksPerPoint,
+   * each continuing from the running sums of the one before, and stops
+   * before a round whose projected time (at the rate measured so far) would
+   * not fit in the budget; the first round always runs. With a target
+   * standard error the rounds raise the most walks a point may take and
+   * stop once every point is at the target. The result is bit for bit that
+   * of one solve with the last round's walks per point
+   * (GetLastWalksPerPointReached(), field WalksPerPointReached, array
+   * WalkCount): the count the budget reaches depends on the machine, the
+   * numbers at that count do not. Changing the budget keeps the kept sums,
+   * as changing WalksPerPoint does: a larger one continues.
+   */
+  virtual void SetTimeBudgetSeconds(double seconds);
+  vtkGetMacro(TimeBudgetSeconds, double);
+  ///@}
+
+  /**
+   * Walks per point of the last execution: WalksPerPoint, or under a time
+   * budget the last round's (the most a point took, with a target).
+   */
+  vtkGetMacro(LastWalksPerPointReached, int);
 
   /**
    * Doubles WalksPerPoint (up to VTK_INT_MAX): the next update adds as many
@@ -538,6 +566,13 @@ public:
    * of running them (0 when it started afresh).
    */
   vtkGetMacro(LastResumedWalksPerPoint, vtkIdType);
+
+  /**
+   * Target-error mode: probe points of the last execution that took every
+   * walk allowed (WalksPerPoint) with a standard error still above the
+   * target (0 otherwise). Refine until it is 0 for the target everywhere.
+   */
+  vtkGetMacro(LastPointsShortOfTarget, vtkIdType);
 
   /**
    * Whether the last execution built the boundary (conversion, hierarchy,
@@ -624,6 +659,9 @@ protected:
   double LastSolveSeconds = 0.0;
   int LastDimension = 0;
   vtkIdType LastResumedWalksPerPoint = 0;
+  vtkIdType LastPointsShortOfTarget = 0;
+  int LastWalksPerPointReached = 0;
+  double TimeBudgetSeconds = 0.0;
   bool LastBoundaryBuilt = false;
 
 private:

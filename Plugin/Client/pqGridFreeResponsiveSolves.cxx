@@ -286,11 +286,12 @@ void pqGridFreeResponsiveSolves::onProgressEnd()
 //-----------------------------------------------------------------------------
 bool pqGridFreeResponsiveSolves::IsOnAbortButton(QObject* watched, QEvent* event) const
 {
-  if (!this->AbortButton || !this->AbortButton->isEnabled())
-  {
-    return false;
-  }
-  if (watched == this->AbortButton)
+  auto stops = [this](const QObject* object) {
+    return object &&
+      ((object == this->AbortButton.data() && this->AbortButton->isEnabled()) ||
+        object->property("gridfreeClickableDuringSolves").toBool());
+  };
+  if (stops(watched))
   {
     return true;
   }
@@ -298,8 +299,7 @@ bool pqGridFreeResponsiveSolves::IsOnAbortButton(QObject* watched, QEvent* event
   if (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease)
   {
     const QPoint global = static_cast<QMouseEvent*>(event)->globalPos();
-    QWidget* under = QApplication::widgetAt(global);
-    return under == this->AbortButton;
+    return stops(QApplication::widgetAt(global));
   }
   return false;
 }
@@ -317,11 +317,18 @@ bool pqGridFreeResponsiveSolves::eventFilter(QObject* watched, QEvent* event)
 //-----------------------------------------------------------------------------
 void pqGridFreeResponsiveSolves::onAbort()
 {
+  AbortGridFreeFilters();
+}
+
+//-----------------------------------------------------------------------------
+bool pqGridFreeResponsiveSolves::AbortGridFreeFilters()
+{
   pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
   if (!model)
   {
-    return;
+    return false;
   }
+  bool found = false;
   for (pqPipelineSource* source : model->findItems<pqPipelineSource*>())
   {
     vtkSMProxy* proxy = source->getProxy();
@@ -330,6 +337,8 @@ void pqGridFreeResponsiveSolves::onAbort()
     if (algorithm && IsGridFreeClassName(QString::fromUtf8(algorithm->GetClassName())))
     {
       algorithm->SetAbortExecute(1);
+      found = true;
     }
   }
+  return found;
 }

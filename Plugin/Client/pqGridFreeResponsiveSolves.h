@@ -17,6 +17,8 @@
  *  - on Abort, sets AbortExecute on the GridFree algorithms of the built-in
  *    server: the running one stops within a progress interval and reports
  *    what it did not finish (VTK clears the flag when a filter next runs).
+ * A widget that carries the dynamic property "gridfreeClickableDuringSolves"
+ * (Refine Until Target's button, to stop its rounds) is let through too.
  * With a remote server the Abort button stays as ParaView leaves it: the
  * server cannot be reached while it computes.
  *
@@ -62,6 +64,10 @@ public:
   /// True for the progress text of a GridFree filter (its class name
   /// without the "vtk" prefix, as ParaView shows it).
   static bool IsGridFreeProgress(const QString& text);
+
+  /// Sets AbortExecute on the GridFree algorithms of the built-in server
+  /// (what Abort does); false when none was found.
+  static bool AbortGridFreeFilters();
 
 protected:
   bool eventFilter(QObject* watched, QEvent* event) override;

@@ -1,7 +1,9 @@
 """Benchmark (not part of the tests): on the CT workflow's slice
 (Documentation/Examples/ct_workflow.py: Poisson with the CT volume as source,
 gradient on), the time to the first image and the time to a given standard
-error, fixed walk counts against the target-error mode. Prints a table.
+error, fixed walk counts against the target-error mode, and the progressive
+preview (Refine Until Target: 128 walks, then rounds of Refine until every
+point is at the target). Prints tables.
 
     pvbatch ct_target_error.py [--target 0.5] [--threads 0]
 
@@ -74,3 +76,36 @@ for cap in (1024, 4096):
     seconds, mean_err, max_err, mean_walks = run(cap, args.target)
     print("| target %g, at most %d | %.0f | %.2f | %.3f | %.3f |"
           % (args.target, cap, mean_walks, seconds, mean_err, max_err))
+
+# The progressive preview as the GUI's Refine Until Target runs it: a first
+# picture at 128 walks, then rounds of Refine (each doubling the maximum,
+# running only the walks of the points still above the target).
+solver.KeepRunningSums = 1
+solver.TargetStandardError = args.target
+solver.WalksPerPoint = 128
+t = time.time()
+solver.UpdatePipeline()
+elapsed = time.time() - t
+solver.UpdatePropertyInformation()
+short = solver.GetPropertyValue("PointsShortOfTarget")
+errs, _ = errors()
+print()
+print("| round | walks per point (most) | round seconds | total seconds | points above "
+      "target | max std. error |")
+print("|---:|---:|---:|---:|---:|---:|")
+print("| 0 (first picture) | 128 | %.2f | %.2f | %d | %.3f |" % (elapsed, elapsed, short, max(errs)))
+round_number = 0
+walks = 128
+while short > 0 and walks < (1 << 20):
+    round_number += 1
+    t = time.time()
+    solver.SMProxy.InvokeCommand("Refine")
+    solver.UpdatePipeline()
+    seconds = time.time() - t
+    elapsed += seconds
+    solver.UpdatePropertyInformation()
+    short = solver.GetPropertyValue("PointsShortOfTarget")
+    walks = solver.GetPropertyValue("WalksPerPointInUse")
+    errs, _ = errors()
+    print("| %d | %d | %.2f | %.2f | %d | %.3f |"
+          % (round_number, walks, seconds, elapsed, short, max(errs)))

@@ -8,10 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 using namespace gridfree;
 using namespace gridfree::testing;
@@ -146,6 +148,9 @@ TEST(Problem, SameBitsForAnyThreadCountAndSchedule)
 TEST(Problem, ResumedBatchEqualsOneBatch)
 {
   const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  // One point (its walks in blocks over the threads) and 30 (points over
+  // the threads); legs that stop inside the derivative estimator's control
+  // blocks of 256 walks and cross their boundaries.
   for (std::size_t count : { std::size_t(1), std::size_t(30) })
   {
     const auto points = AsProbe<3>(RandomPointsInBall<3>(static_cast<int>(count), 0.8, 14));
@@ -157,15 +162,69 @@ TEST(Problem, ResumedBatchEqualsOneBatch)
       const BatchEstimates whole = problem.EstimateAll(points, request);
 
       RunningSumsCache kept;
-      request.WalksPerPoint = 300;
-      problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
-      request.WalksPerPoint = 600;
-      const BatchEstimates resumed =
-        problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
-      // The derivative estimator resumes at its last control block (256).
-      EXPECT_EQ(resumed.Summary.ResumedWalksPerPoint, derivatives ? 256 : 300);
-      EXPECT_EQ(resumed.Summary.WalksRun, count * (derivatives ? 344u : 300u));
+      int before = 0;
+      BatchEstimates resumed;
+      for (int walks : { 100, 300, 520, 600 })
+      {
+        request.WalksPerPoint = walks;
+        resumed = problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+        EXPECT_EQ(resumed.Summary.ResumedWalksPerPoint, before);
+        EXPECT_EQ(resumed.Summary.WalksRun, count * static_cast<std::size_t>(walks - before));
+        before = walks;
+      }
       ExpectSameBits(whole, resumed);
+    }
+  }
+}
+
+TEST(Problem, ResumedTargetBatchEqualsOneBatch)
+{
+  // Target-error mode: a batch with a larger maximum continues the points
+  // that had not reached the target (also those cut off between two checks,
+  // at 150 walks) and keeps the others, as one batch with that maximum.
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  const auto points = AsProbe<3>(RandomPointsInBall<3>(30, 0.9, 16));
+  for (bool derivatives : { false, true })
+  {
+    BatchRequest request;
+    request.Derivatives.Gradient = derivatives;
+    // A target half the points reach by 256 walks.
+    request.WalksPerPoint = 256;
+    const BatchEstimates fixed = problem.EstimateAll(points, request);
+    std::vector<double> variances;
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      variances.push_back(fixed.Variances[i * fixed.Variances.size() / points.size()]);
+    }
+    std::nth_element(variances.begin(), variances.begin() + 15, variances.end());
+    request.TargetStandardError = std::sqrt(variances[15]);
+
+    request.WalksPerPoint = 600;
+    const BatchEstimates whole = problem.EstimateAll(points, request);
+    int early = 0;
+    int capped = 0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      early += whole.Counters[i].Walks < 256 ? 1 : 0;
+      capped += whole.Counters[i].Walks == 600 ? 1 : 0;
+    }
+    EXPECT_GT(early, 0);
+    EXPECT_LT(early + capped, 30); // some stop between the legs below
+
+    RunningSumsCache kept;
+    int before = 0;
+    BatchEstimates resumed;
+    for (int walks : { 150, 300, 600 })
+    {
+      request.WalksPerPoint = walks;
+      resumed = problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+      EXPECT_EQ(resumed.Summary.ResumedWalksPerPoint, before);
+      before = walks;
+    }
+    ExpectSameBits(whole, resumed);
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      EXPECT_EQ(whole.Counters[i].Walks, resumed.Counters[i].Walks);
     }
   }
 }

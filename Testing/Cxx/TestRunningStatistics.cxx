@@ -97,10 +97,8 @@ TEST(RunningStatistics, RestoredStateContinuesBitForBit)
 TEST(RunningSumsCache, ResumesOnlyWhatItKept)
 {
   gridfree::RunningSumsCache cache;
-  EXPECT_FALSE(cache.CanResume(10, 3, 256, 1000)); // nothing kept
-  cache.Reset(10, 3, 256);
-  EXPECT_EQ(cache.ResumePoint(700), 512u);
-  EXPECT_EQ(cache.ResumePoint(255), 0u);
+  EXPECT_FALSE(cache.CanResume(10, 3, true, 0.0, 1000)); // nothing kept
+  cache.Reset(10, 3, true);
   gridfree::RunningStatistics stats(3);
   const double sample[3] = { 1.0, 2.0, 4.0 };
   stats.Add(sample);
@@ -109,13 +107,17 @@ TEST(RunningSumsCache, ResumesOnlyWhatItKept)
   counters.Walks = 2;
   counters.Steps = 9;
   cache.Save(4, stats, counters, 1);
-  cache.SetKeptWalks(512);
-  EXPECT_TRUE(cache.CanResume(10, 3, 256, 512));
-  EXPECT_TRUE(cache.CanResume(10, 3, 256, 4096));
-  EXPECT_FALSE(cache.CanResume(10, 3, 256, 511)); // fewer walks than kept
-  EXPECT_FALSE(cache.CanResume(11, 3, 256, 4096)); // another probe
-  EXPECT_FALSE(cache.CanResume(10, 2, 256, 4096)); // another layout
-  EXPECT_FALSE(cache.CanResume(10, 3, 1, 4096));   // another estimator
+  gridfree::RunningStatistics history(3);
+  const double blockSample[3] = { -1.0, 0.5, 8.0 };
+  history.Add(blockSample);
+  cache.SaveHistory(4, history);
+  cache.SetKeptWalks(300);
+  EXPECT_TRUE(cache.CanResume(10, 3, true, 0.0, 300));
+  EXPECT_TRUE(cache.CanResume(10, 3, true, 0.0, 4096));
+  EXPECT_FALSE(cache.CanResume(10, 3, true, 0.0, 299));  // fewer walks than kept
+  EXPECT_FALSE(cache.CanResume(11, 3, true, 0.0, 4096));  // another probe
+  EXPECT_FALSE(cache.CanResume(10, 2, true, 0.0, 4096));  // another layout
+  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.0, 4096)); // another estimator
   gridfree::RunningStatistics loaded(3);
   gridfree::WalkCounters loadedCounters;
   unsigned char status = 0;
@@ -124,7 +126,29 @@ TEST(RunningSumsCache, ResumesOnlyWhatItKept)
   EXPECT_EQ(loaded.GetMean(2), 4.0);
   EXPECT_EQ(loadedCounters.Steps, 9u);
   EXPECT_EQ(status, 1);
+  gridfree::RunningStatistics loadedHistory(3);
+  cache.LoadHistory(4, loadedHistory);
+  EXPECT_EQ(loadedHistory.SampleCount(), 1u);
+  EXPECT_EQ(loadedHistory.GetMean(0), -1.0);
+  EXPECT_EQ(loadedHistory.GetMean(2), 8.0);
+  // A point never saved loads as empty.
+  cache.LoadHistory(5, loadedHistory);
+  EXPECT_EQ(loadedHistory.SampleCount(), 0u);
+  EXPECT_FALSE(cache.Stopped(4)); // a fixed count has no target
+  EXPECT_GT(cache.MemoryBytes(), 0u);
+
+  // Target-error batches: only the same target resumes, and each point's
+  // stop is kept.
+  cache.Reset(10, 3, false, 0.5);
+  cache.Save(2, stats, counters, 0, true);
+  cache.Save(3, stats, counters, 0, false);
+  cache.SetKeptWalks(256);
+  EXPECT_TRUE(cache.CanResume(10, 3, false, 0.5, 512));
+  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.25, 512)); // another target
+  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.0, 512));  // a fixed count
+  EXPECT_TRUE(cache.Stopped(2));
+  EXPECT_FALSE(cache.Stopped(3));
   cache.Clear();
-  EXPECT_FALSE(cache.CanResume(10, 3, 256, 4096));
+  EXPECT_FALSE(cache.CanResume(10, 3, true, 0.0, 4096));
   EXPECT_EQ(cache.MemoryBytes(), 0u);
 }

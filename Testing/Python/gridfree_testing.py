@@ -6,7 +6,7 @@ from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-from vtkmodules.vtkFiltersSources import vtkRegularPolygonSource, vtkSphereSource
+from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkRegularPolygonSource, vtkSphereSource
 
 
 def saddle(x, y, z=0.0):
@@ -43,6 +43,17 @@ def point_cloud(points):
         vtk_points.InsertNextPoint(*p)
     cloud.SetPoints(vtk_points)
     return cloud
+
+
+def plane_probe(origin, point1, point2, resolution):
+    """A vtkPlaneSource's output: (resolution + 1)^2 points."""
+    source = vtkPlaneSource()
+    source.SetOrigin(*origin)
+    source.SetPoint1(*point1)
+    source.SetPoint2(*point2)
+    source.SetResolution(resolution, resolution)
+    source.Update()
+    return source.GetOutput()
 
 
 def closed_polyline(vertices):

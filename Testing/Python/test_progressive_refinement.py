@@ -77,15 +77,18 @@ def test_plain_walks_continue_bit_for_bit():
     check_progressive(40, 100, 40, ControlVariates=False)
 
 
-def test_derivative_walks_continue_from_their_last_control_block():
-    # 300 walks keep their sums at 256; 700 runs walks 256..699.
-    check_progressive(300, 700, 256, ComputeGradient=True, ComputeHessian=True)
+def test_derivative_walks_continue_from_any_walk_count():
+    # The control variates' block state (blocks of 256 walks) is kept with
+    # the sums: 300 walks continue inside the second block, 100 inside the
+    # first.
+    check_progressive(300, 700, 300, ComputeGradient=True, ComputeHessian=True)
+    check_progressive(100, 200, 100, ComputeGradient=True)
 
 
 def test_walks_of_few_points_spread_over_threads_continue_too():
     few = point_cloud([(0.1, 0.2, 0.0), (-0.3, 0.0, 0.4)])
     check_progressive(1000, 2600, 1000, probe=few, ControlVariates=False, NumberOfThreads=2)
-    check_progressive(600, 1500, 512, probe=few, ComputeGradient=True, NumberOfThreads=2)
+    check_progressive(600, 1500, 600, probe=few, ComputeGradient=True, NumberOfThreads=2)
 
 
 def test_poisson_with_a_source_continues_too():

@@ -119,6 +119,40 @@ def test_points_that_cannot_reach_the_target_are_reported():
     assert "without reaching the target standard error" in messages.warning_text()
 
 
+def test_refine_keeps_the_points_at_the_target_and_continues_the_others():
+    # Rounds of Refine (what the GUI's Refine Until Target does), from 150
+    # walks (points cut off between two checks continue to the next one):
+    # each round runs only the walks of the points still above the target,
+    # and the last equals one solve with that maximum.
+    target = 0.02
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(BOUNDARY)
+    solver.SetProbeData(PROBE)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetSeed(11)
+    solver.SetComputeGradient(True)
+    solver.SetTargetStandardError(target)
+    solver.SetWalksPerPoint(150)
+    solver.Update()
+    short = [solver.GetLastPointsShortOfTarget()]
+    while short[-1] > 0:
+        before = values(solver.GetOutput(), "WalkCount")
+        solver.Refine()
+        solver.Update()
+        after = values(solver.GetOutput(), "WalkCount")
+        assert solver.GetLastResumedWalksPerPoint() == solver.GetWalksPerPoint() // 2
+        # Only the walks the counts grew by ran.
+        assert solver.GetLastNumberOfWalks() == sum(after) - sum(before)
+        short.append(solver.GetLastPointsShortOfTarget())
+    assert len(short) >= 3 and short[0] > short[1] > 0, short
+    walks = solver.GetWalksPerPoint()
+    refined = solver.GetOutput()
+    whole, _ = solve(target=target, walks=walks, gradient=True)
+    for name in ("T", "T_Variance", "T_Gradient", "WalkCount"):
+        assert values(refined, name) == values(whole, name), name
+    assert max(math.sqrt(v) for v in values(refined, "T_Variance")) <= target
+
+
 def test_relative_target_with_constant_values_is_an_error():
     constant = sphere_boundary(function=lambda x, y, z=0.0: 3.0)
     out, messages = solve(target=0.01, relative=True, boundary=constant)

@@ -192,6 +192,13 @@ public:
   // history is then kept, and the calls give the numbers of one call.
   void ContinueBlock(bool continuing) { this->Continuing = continuing; }
 
+  // The running state of the current control block's walks: what a
+  // continuing call uses. Progressive refinement saves it with a point's sums
+  // and restores it before continuing that point's walks in a later solve
+  // (RunningSumsCache), so a solve can continue inside a block.
+  const RunningStatistics& BlockHistory() const { return this->History; }
+  RunningStatistics& BlockHistory() { return this->History; }
+
   // Runs walks firstWalk .. firstWalk + walks − 1 from the probe point (the
   // random streams are keyed as in WalkOnSpheresEstimator::EstimatePoint) and
   // adds their samples to stats (Layout().Size components): a

@@ -58,7 +58,9 @@ struct BatchRequest
   // is at most this, checked after kTargetFirstWalks walks and then every
   // kTargetCheckWalks; WalksPerPoint is then the most any point takes. The
   // decision depends only on the point's own walks, so the result is the
-  // same for any thread count. Kept sums are not used in this mode.
+  // same for any thread count. A batch with a larger WalksPerPoint resumes
+  // from kept sums in this mode too: points that stopped at the target keep
+  // their numbers, the others continue, as one batch with that maximum would.
   double TargetStandardError = 0.0;
 
   bool DerivativeWalks() const
@@ -241,26 +243,19 @@ public:
     const int walks = std::max(0, request.WalksPerPoint);
     const std::uint64_t seed = request.Seed;
 
-    // Progressive refinement: continue from the kept sums, and keep this
-    // batch's at its last control block boundary (every walk for the plain
-    // estimator, whose walks are independent).
+    // Progressive refinement: continue from the kept sums and keep this
+    // batch's, with the derivative estimator's control-block history, so
+    // that the next batch can continue from any walk count.
     const int blockWalks = derivativeWalks ? DerivativeWalkOnSpheres<DIM>::kControlBlock : 64;
-    const int resumeBlock = derivativeWalks ? blockWalks : 1;
     const double target = request.TargetStandardError;
-    if (target > 0.0 && kept)
-    {
-      kept->Clear();
-      kept = nullptr;
-    }
     const bool resumed = kept &&
-      kept->CanResume(numPoints, sampleSize, resumeBlock, static_cast<std::uint64_t>(walks));
+      kept->CanResume(
+        numPoints, sampleSize, derivativeWalks, target, static_cast<std::uint64_t>(walks));
     if (kept && !resumed)
     {
-      kept->Reset(numPoints, sampleSize, resumeBlock);
+      kept->Reset(numPoints, sampleSize, derivativeWalks, target);
     }
     const int startWalks = resumed ? static_cast<int>(kept->KeptWalks()) : 0;
-    const int keepAt =
-      kept ? static_cast<int>(kept->ResumePoint(static_cast<std::uint64_t>(walks))) : -1;
     summary.ResumedWalksPerPoint = startWalks;
     auto startPoint = [&](std::size_t i, RunningStatistics& stats, WalkCounters& counters,
                         unsigned char& status) {
@@ -275,8 +270,12 @@ public:
 
     const int valueComponents = this->SolutionComponents();
     const int threadCount = ResolveThreadCount(request.Threads);
-    const std::size_t blocksPerPoint =
-      static_cast<std::size_t>((walks - startWalks + blockWalks - 1) / blockWalks);
+    // Walk-level blocks follow the control blocks (multiples of blockWalks);
+    // a batch resumed inside one starts with the rest of that block.
+    const int leadWalks =
+      std::min((blockWalks - startWalks % blockWalks) % blockWalks, walks - startWalks);
+    const std::size_t blocksPerPoint = static_cast<std::size_t>(leadWalks > 0) +
+      static_cast<std::size_t>((walks - startWalks - leadWalks + blockWalks - 1) / blockWalks);
     const bool walkLevel = target <= 0.0 && threadCount > 1 &&
       numPoints < 2 * static_cast<std::size_t>(threadCount) &&
       blocksPerPoint > 1 &&
@@ -316,7 +315,8 @@ public:
     if (walkLevel)
     {
       summary.Completed = this->EstimateByBlocks(points, request, sink, kept, startPoint,
-        startWalks, keepAt, blockWalks, blocksPerPoint, sampleSize, walksDone, report, addTotals);
+        startWalks, leadWalks, blockWalks, blocksPerPoint, sampleSize, walksDone, report,
+        addTotals);
     }
     else
     {
@@ -334,26 +334,42 @@ public:
               unsigned char keptStatus = 0;
               startPoint(i, stats, counters, keptStatus);
               auto status = static_cast<DerivativeStatus>(keptStatus);
-              // The walks of a fixed count (continuing from kept sums, and
-              // keeping them at the resume point), or those a target needs.
+              // The walks of a fixed count, or those a target needs, either
+              // continuing from kept sums; then keeping them.
               auto runWalks = [&]() {
+                using Estimator = std::decay_t<decltype(estimator)>;
+                if constexpr (HasContinueBlock<Estimator>::value)
+                {
+                  if (resumed)
+                  {
+                    kept->LoadHistory(i, estimator.BlockHistory());
+                  }
+                }
+                bool stopped = resumed && kept->Stopped(i);
                 if (target > 0.0)
                 {
-                  return EstimateToTarget(estimator, points[i].data(), seed, walks, target,
-                    valueComponents, stats, counters, cancel, walksDone, status);
+                  if (!stopped &&
+                    !EstimateToTarget(estimator, points[i].data(), seed,
+                      static_cast<int>(stats.SampleCount()), walks, target, valueComponents, stats,
+                      counters, cancel, walksDone, status, stopped))
+                  {
+                    return false;
+                  }
                 }
-                const int firstLeg = std::min(std::max(keepAt, startWalks), walks);
-                if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, firstLeg,
-                      stats, counters, cancel, walksDone, status))
+                else if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, walks,
+                           stats, counters, cancel, walksDone, status, resumed))
                 {
                   return false;
                 }
-                if (kept && keepAt >= startWalks)
+                if (kept)
                 {
-                  kept->Save(i, stats, counters, static_cast<unsigned char>(status));
+                  kept->Save(i, stats, counters, static_cast<unsigned char>(status), stopped);
+                  if constexpr (HasContinueBlock<Estimator>::value)
+                  {
+                    kept->SaveHistory(i, estimator.BlockHistory());
+                  }
                 }
-                return EstimateInChunks(estimator, points[i].data(), seed, firstLeg, walks, stats,
-                  counters, cancel, walksDone, status);
+                return true;
               };
               if (!runWalks())
               {
@@ -392,9 +408,9 @@ public:
     // Kept sums are whole only after a complete batch.
     if (kept)
     {
-      if (summary.Completed && keepAt > 0)
+      if (summary.Completed && walks > 0)
       {
-        kept->SetKeptWalks(static_cast<std::uint64_t>(keepAt));
+        kept->SetKeptWalks(static_cast<std::uint64_t>(walks));
       }
       else
       {
@@ -452,8 +468,8 @@ private:
   // chunks of kChunkWalks, adding each finished chunk to `done` and stopping
   // between chunks when `cancel` is set. Returns false if they were not all
   // run; `status` receives the derivative estimator's status (unchanged for
-  // the plain one). `from` must be a multiple of the estimator's control
-  // block.
+  // the plain one). With `continuing`, the derivative estimator continues
+  // the control block its history holds (walks up to `from` of this point).
   template <class Estimator>
   static bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed,
     int from, int to, RunningStatistics& stats, WalkCounters& counters,
@@ -489,28 +505,41 @@ private:
     return true;
   }
 
-  // Target-error mode: walks 0, 1, ... of one point until the standard error
-  // of its value is at most `target` (checked after kTargetFirstWalks walks,
-  // then every kTargetCheckWalks) or `most` walks have run. The walks are
-  // those of a fixed-count run, in the same order: stopping early only drops
-  // the later ones. Returns false when aborted.
+  // Target-error mode: walks `from`, from + 1, ... of one point until the
+  // standard error of its value is at most `target` (checked after
+  // kTargetFirstWalks walks, then every kTargetCheckWalks) or `most` walks
+  // have run. The walks are those of a fixed-count run, in the same order:
+  // stopping early only drops the later ones. `stopped` says whether a check
+  // found the target reached; a point cut short by `most` between two
+  // checks is not stopped, so that a later batch with a larger maximum
+  // continues it to its next check, as a batch with that maximum from the
+  // start would. Returns false when aborted.
   template <class Estimator>
   static bool EstimateToTarget(Estimator& estimator, const double xyz[3], std::uint64_t seed,
-    int most, double target, int valueComponents, RunningStatistics& stats,
+    int from, int most, double target, int valueComponents, RunningStatistics& stats,
     WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
-    DerivativeStatus& status)
+    DerivativeStatus& status, bool& stopped)
   {
     const double targetVariance = target * target;
-    int walked = 0;
+    stopped = false;
+    int walked = from;
     while (walked < most)
     {
-      const int leg = std::min(walked == 0 ? kTargetFirstWalks : kTargetCheckWalks, most - walked);
-      if (!EstimateInChunks(estimator, xyz, seed, walked, walked + leg, stats, counters, cancel,
-            done, status, walked > 0))
+      const int check = walked < kTargetFirstWalks
+        ? kTargetFirstWalks
+        : kTargetFirstWalks +
+          ((walked - kTargetFirstWalks) / kTargetCheckWalks + 1) * kTargetCheckWalks;
+      const int to = std::min(check, most);
+      if (!EstimateInChunks(estimator, xyz, seed, walked, to, stats, counters, cancel, done,
+            status, walked > 0))
       {
         return false;
       }
-      walked += leg;
+      walked = to;
+      if (walked < check)
+      {
+        break; // the maximum came first: no check here
+      }
       bool reached = true;
       for (int c = 0; c < valueComponents && reached; ++c)
       {
@@ -519,6 +548,7 @@ private:
       }
       if (reached)
       {
+        stopped = true;
         break;
       }
     }
@@ -539,11 +569,13 @@ private:
   // the threads, each block recorded and then replayed in walk order, so the
   // numbers are bit for bit those of one thread. Blocks of the derivative
   // estimator are its control blocks, whose control variates only use the
-  // walks before them in the same block.
+  // walks before them in the same block: a batch resumed inside a block
+  // starts with its remaining `leadWalks` walks, continuing from the kept
+  // history, and keeps the history of each point's last block.
   template <class StartPoint, class Report, class AddTotals>
   bool EstimateByBlocks(const std::vector<std::array<double, 3>>& points,
     const BatchRequest& request, const PointSink& sink, RunningSumsCache* kept,
-    const StartPoint& startPoint, int startWalks, int keepAt, int blockWalks,
+    const StartPoint& startPoint, int startWalks, int leadWalks, int blockWalks,
     std::size_t blocksPerPoint, int sampleSize, std::atomic<std::uint64_t>& walksDone,
     const Report& report, const AddTotals& addTotals) const
   {
@@ -565,8 +597,21 @@ private:
                ++item)
           {
             const std::size_t i = item / blocksPerPoint;
-            const int first = startWalks + static_cast<int>(item % blocksPerPoint) * blockWalks;
-            const int count = std::min(blockWalks, walks - first);
+            const int b = static_cast<int>(item % blocksPerPoint);
+            const int first = b == 0 ? startWalks
+                                     : startWalks + leadWalks + (b - (leadWalks > 0)) * blockWalks;
+            const int count = b == 0 && leadWalks > 0 ? leadWalks : std::min(blockWalks, walks - first);
+            using Estimator = std::decay_t<decltype(estimator)>;
+            if constexpr (HasContinueBlock<Estimator>::value)
+            {
+              // Only a resumed point's first, partial block continues a block.
+              const bool continuing = b == 0 && leadWalks > 0 && kept && startWalks > 0;
+              if (continuing)
+              {
+                kept->LoadHistory(i, estimator.BlockHistory());
+              }
+              estimator.ContinueBlock(continuing);
+            }
             recorders[item].Reserve(static_cast<std::size_t>(count));
             using Result = decltype(estimator.EstimatePoint(points[i].data(), request.Seed,
               std::uint64_t(0), count, recorders[item], blockCounters[item]));
@@ -580,6 +625,13 @@ private:
               // The status is the same for every block of a point.
               pointStatus[i] = estimator.EstimatePoint(points[i].data(), request.Seed,
                 static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
+            }
+            if constexpr (HasContinueBlock<Estimator>::value)
+            {
+              if (kept && first + count == walks)
+              {
+                kept->SaveHistory(i, estimator.BlockHistory());
+              }
             }
             blockDone[item] = 1;
             walksDone.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
@@ -624,20 +676,14 @@ private:
       startPoint(i, stats, counters, keptStatus);
       const DerivativeStatus status =
         derivativeWalks ? pointStatus[i] : static_cast<DerivativeStatus>(keptStatus);
-      int walksSoFar = startWalks;
       for (std::size_t b = 0; b < blocksPerPoint; ++b)
       {
-        if (kept && walksSoFar == keepAt)
-        {
-          kept->Save(i, stats, counters, static_cast<unsigned char>(pointStatus[i]));
-        }
         recorders[firstItem + b].ReplayInto(stats);
         counters.Add(blockCounters[firstItem + b]);
-        walksSoFar += static_cast<int>(recorders[firstItem + b].SampleCount());
       }
-      if (kept && walksSoFar == keepAt)
+      if (kept)
       {
-        kept->Save(i, stats, counters, static_cast<unsigned char>(pointStatus[i]));
+        kept->Save(i, stats, counters, static_cast<unsigned char>(status));
       }
       if (derivativeWalks)
       {

@@ -4,11 +4,11 @@
 //
 // Every walk's random stream depends only on the seed, the point and the
 // walk's number, and the sums are Welford states restored exactly, so the
-// continued result is bit for bit that of one solve with all the walks. One
-// subtlety: the derivative estimator's control variates use the running means
-// of the walks before them in the same block of `Block` walks (256), so the
-// state is kept at the last block boundary, and the walks of a partial last
-// block are run again when the solve continues.
+// continued result is bit for bit that of one solve with all the walks. The
+// derivative estimator's control variates also use the running means of the
+// walks before them in the same control block (256 walks), so for it the
+// cache keeps that block's running state too ("history"): a solve can then
+// continue from any walk count, inside a block as well.
 #ifndef GRIDFREE_STATISTICS_RUNNING_SUMS_CACHE_H
 #define GRIDFREE_STATISTICS_RUNNING_SUMS_CACHE_H
 
@@ -25,18 +25,21 @@ class RunningSumsCache
 {
 public:
   /// Empties the cache and sizes it for `points` points of `components`
-  /// numbers per walk, resumable at multiples of `block` walks.
-  void Reset(std::size_t points, int components, int block)
+  /// numbers per walk, with a control-block history of `components` numbers
+  /// per point when `history` is set (the derivative estimator), for a batch
+  /// of target standard error `target` (0: a fixed count of walks).
+  void Reset(std::size_t points, int components, bool history, double target = 0.0)
   {
     this->NumberOfPoints = points;
     this->NumberOfComponents = components;
-    this->BlockWalks = block > 0 ? block : 1;
+    this->KeepsHistory = history;
+    this->Target = target;
     this->Kept = 0;
-    this->Counts.assign(points, 0);
-    this->Means.assign(points * components, 0.0);
-    this->M2s.assign(points * components, 0.0);
+    this->Sums.Assign(points, components);
+    this->History.Assign(history ? points : 0, components);
     this->Counters.assign(points, WalkCounters());
     this->Statuses.assign(points, 0);
+    this->StoppedAtTarget.assign(target > 0.0 ? points : 0, 0);
   }
 
   /// Frees the memory; nothing can be resumed afterwards.
@@ -46,42 +49,56 @@ public:
   }
 
   /// Whether a solve of `points` points with `components` numbers per walk
-  /// and `walks` walks per point can continue from the kept sums.
-  bool CanResume(std::size_t points, int components, int block, std::uint64_t walks) const
+  /// (and a history or not), target `target` and `walks` walks per point (at
+  /// most, with a target) can continue from the kept sums.
+  bool CanResume(std::size_t points, int components, bool history, double target,
+    std::uint64_t walks) const
   {
     return this->Kept > 0 && points == this->NumberOfPoints &&
-      components == this->NumberOfComponents && block == this->BlockWalks && walks >= this->Kept;
+      components == this->NumberOfComponents && history == this->KeepsHistory &&
+      target == this->Target && walks >= this->Kept;
   }
 
   /// Walks per point the kept sums hold (0: none).
   std::uint64_t KeptWalks() const { return this->Kept; }
 
-  /// The walk count at which a solve of `walks` walks keeps its sums: the
-  /// last block boundary at or below it.
-  std::uint64_t ResumePoint(std::uint64_t walks) const
-  {
-    return walks / static_cast<std::uint64_t>(this->BlockWalks) *
-      static_cast<std::uint64_t>(this->BlockWalks);
-  }
-
   /// Restores point i's kept state (all zero when nothing is kept).
   void Load(std::size_t i, RunningStatistics& stats, WalkCounters& counters,
     unsigned char& status) const
   {
-    const std::size_t at = i * static_cast<std::size_t>(this->NumberOfComponents);
-    stats.RestoreState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+    this->Sums.Load(i, stats);
     counters = this->Counters[i];
     status = this->Statuses[i];
   }
 
-  /// Keeps point i's state after ResumePoint(walks) walks.
+  /// Keeps point i's state; `stopped`: its walks stopped at the target.
   void Save(std::size_t i, const RunningStatistics& stats, const WalkCounters& counters,
-    unsigned char status)
+    unsigned char status, bool stopped = false)
   {
-    const std::size_t at = i * static_cast<std::size_t>(this->NumberOfComponents);
-    stats.SaveState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+    this->Sums.Save(i, stats);
     this->Counters[i] = counters;
     this->Statuses[i] = status;
+    if (!this->StoppedAtTarget.empty())
+    {
+      this->StoppedAtTarget[i] = stopped ? 1 : 0;
+    }
+  }
+
+  /// Whether point i's kept walks stopped at the target (a target batch).
+  bool Stopped(std::size_t i) const
+  {
+    return !this->StoppedAtTarget.empty() && this->StoppedAtTarget[i] != 0;
+  }
+
+  /// Restores / keeps point i's control-block history (a cache reset with
+  /// `history`).
+  void LoadHistory(std::size_t i, RunningStatistics& history) const
+  {
+    this->History.Load(i, history);
+  }
+  void SaveHistory(std::size_t i, const RunningStatistics& history)
+  {
+    this->History.Save(i, history);
   }
 
   /// Marks every point's state as holding `walks` walks (after a complete
@@ -91,21 +108,53 @@ public:
   /// Bytes held.
   std::size_t MemoryBytes() const
   {
-    return this->Counts.capacity() * sizeof(std::size_t) +
-      (this->Means.capacity() + this->M2s.capacity()) * sizeof(double) +
-      this->Counters.capacity() * sizeof(WalkCounters) + this->Statuses.capacity();
+    return this->Sums.MemoryBytes() + this->History.MemoryBytes() +
+      this->Counters.capacity() * sizeof(WalkCounters) + this->Statuses.capacity() +
+      this->StoppedAtTarget.capacity();
   }
 
 private:
+  // Welford states (count, means, M2s) of `points` statistics.
+  struct States
+  {
+    void Assign(std::size_t points, int components)
+    {
+      this->Components = static_cast<std::size_t>(components);
+      this->Counts.assign(points, 0);
+      this->Means.assign(points * this->Components, 0.0);
+      this->M2s.assign(points * this->Components, 0.0);
+    }
+    void Load(std::size_t i, RunningStatistics& stats) const
+    {
+      const std::size_t at = i * this->Components;
+      stats.RestoreState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+    }
+    void Save(std::size_t i, const RunningStatistics& stats)
+    {
+      const std::size_t at = i * this->Components;
+      stats.SaveState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+    }
+    std::size_t MemoryBytes() const
+    {
+      return this->Counts.capacity() * sizeof(std::size_t) +
+        (this->Means.capacity() + this->M2s.capacity()) * sizeof(double);
+    }
+    std::size_t Components = 0;
+    std::vector<std::size_t> Counts;
+    std::vector<double> Means;
+    std::vector<double> M2s;
+  };
+
   std::size_t NumberOfPoints = 0;
   int NumberOfComponents = 0;
-  int BlockWalks = 1;
+  bool KeepsHistory = false;
+  double Target = 0.0;
   std::uint64_t Kept = 0;
-  std::vector<std::size_t> Counts;
-  std::vector<double> Means;
-  std::vector<double> M2s;
+  States Sums;
+  States History;
   std::vector<WalkCounters> Counters;
   std::vector<unsigned char> Statuses;
+  std::vector<unsigned char> StoppedAtTarget;
 };
 } // namespace gridfree
 

@@ -5,41 +5,25 @@ only if the GUI's Source Array followed the Source input connected after the
 solver was created.
 
     PYTHONPATH=BUILD/lib/python3.11/site-packages python3 check_gui_source.py gui_source.vtp"""
+import os
 import sys
 
-import gridfree
-from vtkmodules.vtkCommonDataModel import vtkDataObject
-from vtkmodules.vtkFiltersCore import vtkArrayCalculator
-from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
-from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
-from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
+from vtkmodules.vtkImagingCore import vtkRTAnalyticSource  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader  # noqa: E402
+
+from gui_scene import solver_on_the_scene  # noqa: E402
 
 reader = vtkXMLPolyDataReader()
 reader.SetFileName(sys.argv[1])
 reader.Update()
 gui = reader.GetOutput().GetPointData().GetArray("g")
 
-sphere = vtkSphereSource()
-sphere.SetRadius(1.0)
-sphere.SetThetaResolution(48)
-sphere.SetPhiResolution(48)
-surface = vtkArrayCalculator()
-surface.SetInputConnection(sphere.GetOutputPort())
-surface.AddCoordinateScalarVariable("coordsX", 0)
-surface.AddCoordinateScalarVariable("coordsY", 1)
-surface.SetFunction("coordsX*coordsY")
-surface.SetResultArrayName("g")
-plane = vtkPlaneSource()
-plane.SetOrigin(-0.4, -0.4, 0.0)
-plane.SetPoint1(0.4, -0.4, 0.0)
-plane.SetPoint2(-0.4, 0.4, 0.0)
-plane.SetResolution(6, 6)
-solver = gridfree.vtkWalkOnSpheresSolver()
-solver.SetBoundaryConnection(surface.GetOutputPort())
-solver.SetProbeConnection(plane.GetOutputPort())
+solver = solver_on_the_scene()
 heat = vtkRTAnalyticSource()
 solver.SetSourceConnection(heat.GetOutputPort())
-solver.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, "g")
 solver.SetInputArrayToProcess(2, 2, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, "RTData")
 solver.SetEquation(1)
 solver.Update()
