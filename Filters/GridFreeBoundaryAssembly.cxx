@@ -6,6 +6,7 @@
 #include "GridFreeProblemInputs.h"
 #include "GridFreeSourceConversion.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkDataSet.h"
 #include "vtkImplicitFunction.h"
 #include "vtkObject.h"
@@ -17,6 +18,8 @@
 #include <gridfree/implicit/SignedDistance.h>
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -24,6 +27,22 @@ namespace gridfree
 {
 namespace
 {
+// While the hierarchy of a large mesh is built (seconds for a million
+// triangles), progress creeps up to 2% so that the filter's progress
+// reports, and with them a GUI's window, go on (ParaView 5.11 processes
+// window events only in them: Plugin/Client/pqGridFreeResponsiveSolves).
+std::function<void(double)> BuildingProgress(vtkObject* self)
+{
+  vtkAlgorithm* algorithm = vtkAlgorithm::SafeDownCast(self);
+  if (!algorithm)
+  {
+    return nullptr;
+  }
+  return [algorithm](double seconds) {
+    algorithm->UpdateProgress(0.02 * (1.0 - std::exp(-seconds / 4.0)));
+  };
+}
+
 // The boundary of one dimension from the resolved inputs; messages go to
 // `self`, the filter that asked.
 template <int DIM>
@@ -232,7 +251,7 @@ public:
       gridfree::BoundaryConversionReport report;
       std::string reason;
       if (!gridfree::ConvertBoundary<DIM>(in.Boundary, in.Values, in.CellData, *mesh, report,
-            reason, in.Implicit ? nullptr : valueFunction))
+            reason, in.Implicit ? nullptr : valueFunction, BuildingProgress(self)))
       {
         vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input: " << reason << ".");
         return false;

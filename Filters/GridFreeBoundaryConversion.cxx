@@ -1,6 +1,7 @@
 #include "GridFreeBoundaryConversion.h"
 
 #include <gridfree/boundary/BezierBoundaryValues.h>
+#include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/geometry/BezierCurves.h>
 #include <gridfree/geometry/WeldVertices.h>
 
@@ -350,9 +351,22 @@ const char* const BezierControlPointsArrayName = "BezierControlPoints";
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
-  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction)
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction,
+  const std::function<void(double)>& whileBuilding)
 {
   using Primitive = typename Boundary<DIM>::Primitive;
+  // The VTK-free end of the conversion, on a thread of its own when the
+  // caller reports progress meanwhile.
+  auto build = [&whileBuilding](const std::function<void()>& work) {
+    if (whileBuilding)
+    {
+      RunWhileReporting(work, whileBuilding);
+    }
+    else
+    {
+      work();
+    }
+  };
   if (!AllPointIdsValid(boundary, reason))
   {
     return false;
@@ -538,8 +552,10 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   primitives.shrink_to_fit();
   if (valueFunction)
   {
-    WeldIdenticalVertices<DIM>(vertices, primitives);
-    out.SetMesh(std::move(vertices), std::move(primitives), std::move(valueFunction));
+    build([&]() {
+      WeldIdenticalVertices<DIM>(vertices, primitives);
+      out.SetMesh(std::move(vertices), std::move(primitives), std::move(valueFunction));
+    });
     return true;
   }
   if (!values)
@@ -569,14 +585,18 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   // A soup stores each vertex about six times: merge the copies (equal
   // coordinates and values, so nothing a walk sees changes) before the
   // hierarchy is built.
-  WeldIdenticalVertices<DIM>(vertices, primitives, cellData ? nullptr : &flat, nc);
-  out.Set(std::move(vertices), std::move(primitives),
-    cellData ? ValueAssociation::Cells : ValueAssociation::Points, nc, std::move(flat));
+  build([&]() {
+    WeldIdenticalVertices<DIM>(vertices, primitives, cellData ? nullptr : &flat, nc);
+    out.Set(std::move(vertices), std::move(primitives),
+      cellData ? ValueAssociation::Cells : ValueAssociation::Points, nc, std::move(flat));
+  });
   return true;
 }
 
 template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
-  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>,
+  const std::function<void(double)>&);
 template bool ConvertBoundary<3>(vtkPolyData*, vtkDataArray*, bool, Boundary<3>&,
-  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>,
+  const std::function<void(double)>&);
 } // namespace gridfree

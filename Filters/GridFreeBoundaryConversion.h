@@ -19,6 +19,7 @@
 
 #include <gridfree/boundary/Boundary.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -50,16 +51,23 @@ int DetectBoundaryDimension(vtkPolyData* boundary, std::string& reason);
 // Fills `out` from the boundary's cells of the right kind and `values`
 // (`cellData` tells whether values are per cell), or, when `valueFunction` is
 // given, with values from that function instead (`values` is then unused).
-// Returns false with a reason when nothing usable is left.
+// Returns false with a reason when nothing usable is left. With
+// `whileBuilding`, the VTK-free part (welding vertices, the hierarchy and the
+// distance bounds, seconds on a large mesh) runs on a thread of its own while
+// whileBuilding(seconds elapsed) is called on this one about ten times a
+// second, for progress reports.
 template <int DIM>
 bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
-  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction = nullptr);
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction = nullptr,
+  const std::function<void(double)>& whileBuilding = nullptr);
 
 extern template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
-  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>,
+  const std::function<void(double)>&);
 extern template bool ConvertBoundary<3>(vtkPolyData*, vtkDataArray*, bool, Boundary<3>&,
-  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>);
+  BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<3>>,
+  const std::function<void(double)>&);
 } // namespace gridfree
 
 #endif

@@ -223,6 +223,14 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
   {
     blocks.push_back(boundary); // one closed mesh is one operand
   }
+  if (csg && blocks.size() + (implicit ? 1 : 0) == 1)
+  {
+    vtkWarningWithObjectMacro(self, << "CsgOperation is set, but there is one operand only ("
+                                    << (implicit ? "the ImplicitBoundary" : "one Boundary surface")
+                                    << "): nothing is combined. CSG combines the blocks of a "
+                                       "multiblock Boundary (or several Boundary connections) "
+                                       "and the ImplicitBoundary.");
+  }
   if (csg)
   {
     boundary = nullptr;

@@ -505,9 +505,48 @@ bool ConvertConcentrated(vtkPolyData* poly, vtkDataArray* array, int components,
 
 namespace
 {
+// The parser's own words from a VTK error message ("ERROR: In FILE, line
+// N\nvtkExprTkFunctionParser (0x...): Err: 0 Type: [Syntax Error] Msg:
+// ERR201 - Undefined symbol: 'yy'\tExpression: x*yy"): the text after
+// "Msg: " up to the echoed expression, else every line but the location.
+std::string ParserReason(const std::string& message)
+{
+  const std::size_t msg = message.find("Msg: ");
+  if (msg != std::string::npos)
+  {
+    std::string text = message.substr(msg + 5);
+    const std::size_t end = text.find_first_of("\t\n");
+    text = text.substr(0, end);
+    return text.empty() ? message : text;
+  }
+  std::string text;
+  std::size_t start = 0;
+  while (start < message.size())
+  {
+    std::size_t end = message.find('\n', start);
+    if (end == std::string::npos)
+    {
+      end = message.size();
+    }
+    std::string line = message.substr(start, end - start);
+    start = end + 1;
+    if (line.empty() || line.rfind("ERROR: In ", 0) == 0)
+    {
+      continue;
+    }
+    const std::size_t object = line.find("): ");
+    if (line.rfind("vtk", 0) == 0 && object != std::string::npos)
+    {
+      line = line.substr(object + 3);
+    }
+    text += (text.empty() ? "" : "; ") + line;
+  }
+  return text.empty() ? message : text;
+}
+
 // Parses `expression` in x, y, z and tells whether it gives a scalar (1) or a
-// vector (3, with iHat, jHat, kHat); 0 with the parser's first line of
-// message when it does not parse.
+// vector (3, with iHat, jHat, kHat); 0 with the parser's reason when it does
+// not parse.
 int ExpressionComponents(const std::string& expression, std::string& reason)
 {
   vtkNew<vtkExprTkFunctionParser> parser;
@@ -526,12 +565,7 @@ int ExpressionComponents(const std::string& expression, std::string& reason)
     return 3;
   }
   reason = errors->Message.empty() ? std::string("it does not evaluate to a number or a vector")
-                                   : errors->Message;
-  const std::size_t newline = reason.find('\n');
-  if (newline != std::string::npos)
-  {
-    reason.resize(newline);
-  }
+                                   : ParserReason(errors->Message);
   return 0;
 }
 } // namespace

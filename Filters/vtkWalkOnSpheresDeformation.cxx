@@ -17,13 +17,18 @@
 #include "vtkPolyData.h"
 #include "vtkRectilinearGrid.h"
 #include "vtkStructuredGrid.h"
+#include "vtkUnsignedCharArray.h"
 #include "GridFreeArraySelection.h"
 #include "GridFreeSolveSettings.h"
 #include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
+#include <array>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkWalkOnSpheresDeformation);
@@ -36,6 +41,65 @@ const char* const kMapLaplacian = "Deformation_Laplacian";
 bool IsGrid(vtkDataObject* data)
 {
   return vtkImageData::SafeDownCast(data) || vtkRectilinearGrid::SafeDownCast(data);
+}
+
+// Whether each probe point lies inside the Source curves, by the even-odd
+// rule (a ray towards +x crosses their segments an odd number of times).
+// The map is defined there only: walks from outside leave the curves'
+// domain. `closed` is false when the curves do not close up (an end point
+// met by an odd number of segments, points compared by their coordinates):
+// there is no inside then, and every point counts as inside.
+std::vector<char> InsideCurves(vtkPolyData* source, vtkDataSet* probe, bool& closed)
+{
+  std::vector<std::array<double, 4>> segments;
+  std::map<std::pair<double, double>, int> ends;
+  auto lines = vtk::TakeSmartPointer(source->GetLines()->NewIterator());
+  for (lines->GoToFirstCell(); !lines->IsDoneWithTraversal(); lines->GoToNextCell())
+  {
+    vtkIdType count;
+    const vtkIdType* ids;
+    lines->GetCurrentCell(count, ids);
+    for (vtkIdType k = 0; k + 1 < count; ++k)
+    {
+      double a[3], b[3];
+      source->GetPoint(ids[k], a);
+      source->GetPoint(ids[k + 1], b);
+      if (a[0] == b[0] && a[1] == b[1])
+      {
+        continue;
+      }
+      segments.push_back({ a[0], a[1], b[0], b[1] });
+      ends[{ a[0], a[1] }] += 1;
+      ends[{ b[0], b[1] }] += 1;
+    }
+  }
+  closed = !segments.empty();
+  for (const auto& end : ends)
+  {
+    closed = closed && end.second % 2 == 0;
+  }
+  const vtkIdType m = probe->GetNumberOfPoints();
+  std::vector<char> inside(static_cast<std::size_t>(m), 1);
+  if (!closed)
+  {
+    return inside;
+  }
+  for (vtkIdType i = 0; i < m; ++i)
+  {
+    double p[3];
+    probe->GetPoint(i, p);
+    bool odd = false;
+    for (const auto& s : segments)
+    {
+      if ((s[1] > p[1]) != (s[3] > p[1]) &&
+        p[0] < s[0] + (p[1] - s[1]) * (s[2] - s[0]) / (s[3] - s[1]))
+      {
+        odd = !odd;
+      }
+    }
+    inside[static_cast<std::size_t>(i)] = odd ? 1 : 0;
+  }
+  return inside;
 }
 } // namespace
 
@@ -168,8 +232,26 @@ int vtkWalkOnSpheresDeformation::RequestData(
   boundary->GetPointData()->AddArray(h);
 
   const vtkIdType m = probe->GetNumberOfPoints();
+  // Only the probe points inside the Source curves are solved for.
+  bool closed = false;
+  const std::vector<char> inside = InsideCurves(source, probe, closed);
+  std::vector<vtkIdType> solvedAt(static_cast<std::size_t>(m), -1);
+  vtkNew<vtkPoints> insidePoints;
+  insidePoints->SetDataTypeToDouble();
+  for (vtkIdType i = 0; i < m; ++i)
+  {
+    if (inside[static_cast<std::size_t>(i)])
+    {
+      double x[3];
+      probe->GetPoint(i, x);
+      solvedAt[static_cast<std::size_t>(i)] = insidePoints->InsertNextPoint(x);
+    }
+  }
+  const vtkIdType outside = m - insidePoints->GetNumberOfPoints();
+  vtkNew<vtkPolyData> insideProbe;
+  insideProbe->SetPoints(insidePoints);
   vtkSmartPointer<vtkDataSet> solved;
-  if (m > 0)
+  if (insidePoints->GetNumberOfPoints() > 0)
   {
     gridfree::SolveSettings settings = this->SamplingSettings();
     settings.Equation = vtkWalkOnSpheresSolver::BIHARMONIC;
@@ -177,7 +259,7 @@ int vtkWalkOnSpheresDeformation::RequestData(
     arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMap);
     arrays.Select(1, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMapLaplacian);
     bool aborted = false;
-    if (!this->Solve(settings, arrays, boundary, nullptr, probe, 0.0, 1.0, solved, aborted))
+    if (!this->Solve(settings, arrays, boundary, nullptr, insideProbe, 0.0, 1.0, solved, aborted))
     {
       if (aborted)
       {
@@ -199,23 +281,48 @@ int vtkWalkOnSpheresDeformation::RequestData(
   vtkDataArray* value = solved ? solved->GetPointData()->GetArray(kMap) : nullptr;
   vtkDataArray* variance =
     solved ? solved->GetPointData()->GetArray((std::string(kMap) + "_Variance").c_str()) : nullptr;
-  if (m > 0 && (!value || !variance))
+  if (insidePoints->GetNumberOfPoints() > 0 && (!value || !variance))
   {
     vtkErrorMacro(<< "The internal solve did not give the map.");
     return 0;
   }
+  vtkNew<vtkUnsignedCharArray> insideArray;
+  insideArray->SetName("InsideSource");
+  insideArray->SetNumberOfTuples(m);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (vtkIdType i = 0; i < m; ++i)
   {
     double x[3];
     probe->GetPoint(i, x);
-    const double y[3] = { value->GetComponent(i, 0), value->GetComponent(i, 1), x[2] };
-    const double v[3] = { variance->GetComponent(i, 0), variance->GetComponent(i, 1), 0.0 };
+    const vtkIdType j = solvedAt[static_cast<std::size_t>(i)];
+    insideArray->SetValue(i, j >= 0 ? 1 : 0);
+    if (j < 0)
+    {
+      // Outside the curves the map is not defined: the point stays.
+      const double none[3] = { nan, nan, nan };
+      const double still[3] = { 0.0, 0.0, 0.0 };
+      moved->SetPoint(i, x);
+      map->SetTuple(i, none);
+      mapVariance->SetTuple(i, none);
+      displacement->SetTuple(i, still);
+      original->SetTuple(i, x);
+      continue;
+    }
+    const double y[3] = { value->GetComponent(j, 0), value->GetComponent(j, 1), x[2] };
+    const double v[3] = { variance->GetComponent(j, 0), variance->GetComponent(j, 1), 0.0 };
     const double d[3] = { y[0] - x[0], y[1] - x[1], 0.0 };
     moved->SetPoint(i, y);
     map->SetTuple(i, y);
     mapVariance->SetTuple(i, v);
     displacement->SetTuple(i, d);
     original->SetTuple(i, x);
+  }
+  if (outside > 0)
+  {
+    vtkWarningMacro(<< outside << " of " << m
+                    << " probe points lie outside the Source curves, where the deformation is "
+                       "not defined: they keep their place, with Deformation and "
+                       "Deformation_Variance NaN there (array InsideSource is 0).");
   }
   if (auto* grid = vtkStructuredGrid::SafeDownCast(output); grid && IsGrid(probe))
   {
@@ -248,6 +355,10 @@ int vtkWalkOnSpheresDeformation::RequestData(
   output->GetPointData()->AddArray(mapVariance);
   output->GetPointData()->AddArray(displacement);
   output->GetPointData()->AddArray(original);
+  if (closed)
+  {
+    output->GetPointData()->AddArray(insideArray);
+  }
   this->AddSummary(output);
   this->UpdateProgress(1.0);
   return 1;

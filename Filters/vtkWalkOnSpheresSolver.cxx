@@ -30,6 +30,8 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <initializer_list>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -73,6 +75,50 @@ void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
     this->ChangingOnlyWalks = false;
   }
 }
+
+// Enumeration properties: a value that is none of the choices is an error
+// that names them, and the property keeps its value (VTK's clamp would pick
+// the nearest choice, which is another problem, silently).
+namespace
+{
+bool IsChoice(vtkObject* self, const char* property, int value, int current,
+  std::initializer_list<const char*> choices)
+{
+  const int count = static_cast<int>(choices.size());
+  if (value >= 0 && value < count)
+  {
+    return true;
+  }
+  std::ostringstream names;
+  int k = 0;
+  for (const char* choice : choices)
+  {
+    names << (k ? ", " : "") << k << " " << choice;
+    ++k;
+  }
+  vtkErrorWithObjectMacro(self, << "Set" << property << "(" << value << "): " << property
+                                << " is one of " << names.str() << "; it stays "
+                                << *(choices.begin() + std::min(std::max(current, 0), count - 1))
+                                << ".");
+  return false;
+}
+} // namespace
+
+#define GRIDFREE_CHOICE_SETTER(name, ...)                                                          \
+  void vtkWalkOnSpheresSolver::Set##name(int value)                                                \
+  {                                                                                                \
+    if (IsChoice(this, #name, value, this->name, { __VA_ARGS__ }) && value != this->name)         \
+    {                                                                                              \
+      this->name = value;                                                                          \
+      this->Modified();                                                                            \
+    }                                                                                              \
+  }
+GRIDFREE_CHOICE_SETTER(Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic")
+GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
+GRIDFREE_CHOICE_SETTER(SourceSampling, "uniform", "Green's function", "multiple importance")
+GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
+GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
+#undef GRIDFREE_CHOICE_SETTER
 
 void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
 {

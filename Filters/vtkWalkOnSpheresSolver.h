@@ -192,7 +192,7 @@ public:
   /**
    * The CSG operation of the boundary operands (see CsgOperationType).
    */
-  vtkSetClampMacro(CsgOperation, int, CSG_NONE, CSG_DIFFERENCE);
+  virtual void SetCsgOperation(int value); // a value out of range is an error
   vtkGetMacro(CsgOperation, int);
   void SetCsgOperationToNone() { this->SetCsgOperation(CSG_NONE); }
   void SetCsgOperationToUnion() { this->SetCsgOperation(CSG_UNION); }
@@ -271,7 +271,7 @@ public:
   /**
    * The equation to solve (default LAPLACE); see the class description.
    */
-  vtkSetClampMacro(Equation, int, LAPLACE, BIHARMONIC);
+  virtual void SetEquation(int value); // a value out of range is an error
   vtkGetMacro(Equation, int);
   void SetEquationToLaplace() { this->SetEquation(LAPLACE); }
   void SetEquationToPoisson() { this->SetEquation(POISSON); }
@@ -323,7 +323,7 @@ public:
    * (vtkWalkOnSpheresHelmholtzDecomposition) solves its potentials this way.
    * Point and curve sources (a vtkPolyData Source) have no operator.
    */
-  vtkSetClampMacro(SourceOperator, int, SOURCE_VALUE, SOURCE_CURL);
+  virtual void SetSourceOperator(int value); // a value out of range is an error
   vtkGetMacro(SourceOperator, int);
   void SetSourceOperatorToValue() { this->SetSourceOperator(SOURCE_VALUE); }
   void SetSourceOperatorToDivergence() { this->SetSourceOperator(SOURCE_DIVERGENCE); }
@@ -345,7 +345,7 @@ public:
    * combined by the balance heuristic (robust for concentrated sources such
    * as bright spots in a CT volume, at twice the source evaluations).
    */
-  vtkSetClampMacro(SourceSampling, int, UNIFORM, MULTIPLE_IMPORTANCE);
+  virtual void SetSourceSampling(int value); // a value out of range is an error
   vtkGetMacro(SourceSampling, int);
   ///@}
 
@@ -361,7 +361,7 @@ public:
    * boundary hit of the walk for u to estimate Δu along it, at the cost of a
    * Laplace walk; NESTED runs NestedWalks inner walks at every step (Sec. 2.5).
    */
-  vtkSetClampMacro(BiharmonicStrategy, int, TREE_WALKING, NESTED);
+  virtual void SetBiharmonicStrategy(int value); // a value out of range is an error
   vtkGetMacro(BiharmonicStrategy, int);
   vtkSetClampMacro(NestedWalks, int, 1, VTK_INT_MAX);
   vtkGetMacro(NestedWalks, int);

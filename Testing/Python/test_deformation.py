@@ -113,6 +113,30 @@ def test_warped_copies_keep_the_structure():
     assert warped.GetPointData().GetArray("SourcePosition").GetTuple3(0) == (-0.5, -0.5, 0.0)
 
 
+def test_points_outside_the_source_curves_are_not_moved_and_say_so():
+    # The map is defined inside the curves only: outside, walks leave the
+    # domain, and a finite value there would be a confident wrong answer.
+    source = circle(64)
+    deformation = gridfree.vtkWalkOnSpheresDeformation()
+    deformation.SetSourceData(closed_polyline(source))
+    deformation.SetTargetData(closed_polyline([similarity(x, y) for x, y in source]))
+    deformation.SetProbeData(point_cloud([(0.2, 0.1, 0.0), (2.0, 0.0, 0.0), (0.0, -1.5, 0.0)]))
+    deformation.SetWalksPerPoint(64)
+    catcher = MessageCatcher(deformation)
+    deformation.Update()
+    out = deformation.GetOutput()
+    inside = out.GetPointData().GetArray("InsideSource")
+    assert [inside.GetValue(i) for i in range(3)] == [1, 0, 0]
+    deformation_array = out.GetPointData().GetArray("Deformation")
+    assert all(math.isnan(deformation_array.GetComponent(i, 0)) for i in (1, 2))
+    assert not math.isnan(deformation_array.GetComponent(0, 0))
+    assert out.GetPoint(1) == (2.0, 0.0, 0.0) and out.GetPoint(2) == (0.0, -1.5, 0.0)
+    text = catcher.warning_text()
+    assert "2 of 3 probe points lie outside the Source curves" in text, text
+    assert "EscapedFraction" not in text
+    assert deformation.GetLastNumberOfWalks() == 64  # only the inside point walked
+
+
 def test_errors():
     deformation = gridfree.vtkWalkOnSpheresDeformation()
     deformation.SetSourceData(closed_polyline(circle(16)))

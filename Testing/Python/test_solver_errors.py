@@ -140,6 +140,76 @@ def test_bad_property_values_are_clamped():
     assert solver.GetNumberOfThreads() == 0
 
 
+def test_enumeration_values_out_of_range_are_errors_that_name_the_choices():
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    catcher = MessageCatcher(solver)
+    solver.SetEquation(7)
+    assert solver.GetEquation() == gridfree.vtkWalkOnSpheresSolver.LAPLACE
+    assert "SetEquation(7): Equation is one of 0 Laplace, 1 Poisson, 2 screened Poisson, " \
+        "3 biharmonic; it stays Laplace." in catcher.error_text()
+    solver.SetSourceSampling(9)
+    assert solver.GetSourceSampling() == gridfree.vtkWalkOnSpheresSolver.GREENS_FUNCTION
+    assert "SetSourceSampling(9)" in catcher.error_text()
+    for setter in ("SetSourceOperator", "SetBiharmonicStrategy", "SetCsgOperation"):
+        getattr(solver, setter)(-1)
+        assert setter + "(-1)" in catcher.error_text()
+    assert len(catcher.errors) == 5
+    solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.POISSON)  # in range: no message
+    assert solver.GetEquation() == gridfree.vtkWalkOnSpheresSolver.POISSON
+    assert len(catcher.errors) == 5
+
+
+def test_expression_typo_gives_the_parsers_reason():
+    boundary = sphere_boundary(resolution=16)
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    catcher = MessageCatcher(solver, solver.GetExecutive())
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeData(point_cloud([(0.1, 0.0, 0.0)]))
+    solver.SetBoundaryValueExpression("x*yy")
+    solver.Update()
+    text = catcher.error_text()
+    assert "Cannot use the boundary value expression 'x*yy': " \
+        "ERR201 - Undefined symbol: 'yy'." in text, text
+    assert "vtkExprTkFunctionParser.cxx" not in text
+
+
+def test_csg_with_one_operand_says_nothing_is_combined():
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    catcher = MessageCatcher(solver)
+    solver.SetBoundaryData(sphere_boundary(resolution=16))
+    solver.SetProbeData(point_cloud([(0.1, 0.0, 0.0)]))
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetWalksPerPoint(8)
+    solver.SetCsgOperationToUnion()
+    solver.Update()
+    assert "one operand only (one Boundary surface): nothing is combined" \
+        in catcher.warning_text()
+
+
+def test_one_thread_then_two_leaves_tbb_silent():
+    # In a process of its own (TBB sizes its pool of workers once): a solve
+    # on one thread, then on two, with no "request for N workers is ignored".
+    import subprocess
+    script = (
+        "import sys; sys.path.insert(0, %r)\n"
+        "import gridfree\n"
+        "from gridfree_testing import point_cloud, sphere_boundary\n"
+        "from vtkmodules.vtkCommonDataModel import vtkDataObject\n"
+        "for threads in (1, 2):\n"
+        "    s = gridfree.vtkWalkOnSpheresSolver()\n"
+        "    s.SetBoundaryData(sphere_boundary(resolution=16))\n"
+        "    s.SetProbeData(point_cloud([(0.1, 0.0, 0.0), (0.0, 0.2, 0.0)] * 20))\n"
+        "    s.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, 'T')\n"
+        "    s.SetNumberOfThreads(threads)\n"
+        "    s.SetWalksPerPoint(64)\n"
+        "    s.Update()\n"
+        "print('solved')\n" % os.path.dirname(os.path.abspath(__file__)))
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 0 and "solved" in result.stdout, result.stderr
+    assert "ignored" not in result.stderr, result.stderr
+
+
 def test_nan_boundary_coordinates():
     boundary = sphere_boundary(resolution=16)
     boundary.GetPoints().SetPoint(3, float("nan"), 0.0, 0.0)

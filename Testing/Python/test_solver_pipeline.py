@@ -12,7 +12,8 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData  # noqa: E
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
 
 from gridfree_testing import (  # noqa: E402
-    MessageCatcher, circle_boundary, saddle, sphere_boundary, z_scores)
+    MessageCatcher, circle_boundary, filled_array, point_cloud, saddle, sphere_boundary,
+    z_scores)
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
 CELLS = vtkDataObject.FIELD_ASSOCIATION_CELLS
@@ -237,6 +238,32 @@ def test_progress_is_reported_and_abort_is_prompt():
     assert "aborted" in catcher.warning_text()
     values = solver.GetOutput().GetPointData().GetArray("T")
     assert any(math.isnan(values.GetTuple1(i)) for i in range(values.GetNumberOfTuples()))
+
+
+def test_progress_goes_on_while_a_large_boundary_is_built():
+    # 2.9M triangles: building the hierarchy and the distance bounds takes
+    # seconds, during which progress (and with it ParaView's window, which
+    # processes events only in progress reports) must go on. One point, two
+    # walks: the solve itself reports nothing before it ends.
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(1200)
+    sphere.SetPhiResolution(1200)
+    sphere.Update()
+    boundary = sphere.GetOutput()
+    boundary.GetPointData().AddArray(filled_array("T", boundary.GetNumberOfPoints(), 1.0))
+    solver = solver_for(boundary, probe_data=point_cloud([(0.1, 0.0, 0.0)]), walks=2)
+    building = []
+
+    def on_progress(obj, event):
+        if 0.0 < obj.GetProgress() <= 0.02:
+            building.append(obj.GetProgress())
+
+    solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
+    solver.Update()
+    assert solver.GetLastBoundaryBuilt()
+    assert len(building) >= 2, building  # reports every tenth of a second
+    assert building == sorted(building)
 
 
 def test_polygons_and_strips_are_triangulated():
