@@ -1,6 +1,7 @@
 #include "vtkWalkOnSpheresDeformation.h"
 
 #include <gridfree/applications/DeformationBoundaryData.h>
+#include <gridfree/implicit/MeshSignedDistance.h>
 #include "GridFreeArrays.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -22,10 +23,11 @@
 #include "GridFreeSolveSettings.h"
 #include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
-#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -43,15 +45,17 @@ bool IsGrid(vtkDataObject* data)
   return vtkImageData::SafeDownCast(data) || vtkRectilinearGrid::SafeDownCast(data);
 }
 
-// Whether each probe point lies inside the Source curves, by the even-odd
-// rule (a ray towards +x crosses their segments an odd number of times).
-// The map is defined there only: walks from outside leave the curves'
-// domain. `closed` is false when the curves do not close up (an end point
-// met by an odd number of segments, points compared by their coordinates):
-// there is no inside then, and every point counts as inside.
+// Whether each probe point lies inside the Source curves, by the core's
+// inside test of a closed mesh (MeshSignedDistance: ray parity with a
+// majority vote, on its own hierarchy). The map is defined there only:
+// walks from outside leave the curves' domain. `closed` is false when the
+// curves do not close up (an end point met by an odd number of segments,
+// points compared by their coordinates): there is no inside then, and every
+// point counts as inside.
 std::vector<char> InsideCurves(vtkPolyData* source, vtkDataSet* probe, bool& closed)
 {
-  std::vector<std::array<double, 4>> segments;
+  std::vector<gridfree::Vec2> vertices;
+  std::vector<gridfree::MeshSignedDistance<2>::Primitive> segments;
   std::map<std::pair<double, double>, int> ends;
   auto lines = vtk::TakeSmartPointer(source->GetLines()->NewIterator());
   for (lines->GoToFirstCell(); !lines->IsDoneWithTraversal(); lines->GoToNextCell())
@@ -68,7 +72,10 @@ std::vector<char> InsideCurves(vtkPolyData* source, vtkDataSet* probe, bool& clo
       {
         continue;
       }
-      segments.push_back({ a[0], a[1], b[0], b[1] });
+      const auto first = static_cast<std::int64_t>(vertices.size());
+      vertices.emplace_back(a[0], a[1]);
+      vertices.emplace_back(b[0], b[1]);
+      segments.push_back({ first, first + 1 });
       ends[{ a[0], a[1] }] += 1;
       ends[{ b[0], b[1] }] += 1;
     }
@@ -84,20 +91,23 @@ std::vector<char> InsideCurves(vtkPolyData* source, vtkDataSet* probe, bool& clo
   {
     return inside;
   }
+  // Ray tests are watertight for bit-identical coordinates, so the
+  // duplicated end points need no welding.
+  std::shared_ptr<const gridfree::MeshSignedDistance<2>> curves;
+  try
+  {
+    curves = gridfree::MeshSignedDistance<2>::Create(std::move(vertices), std::move(segments));
+  }
+  catch (const std::exception&)
+  {
+    closed = false; // non-finite points: the solve says what is wrong
+    return inside;
+  }
   for (vtkIdType i = 0; i < m; ++i)
   {
     double p[3];
     probe->GetPoint(i, p);
-    bool odd = false;
-    for (const auto& s : segments)
-    {
-      if ((s[1] > p[1]) != (s[3] > p[1]) &&
-        p[0] < s[0] + (p[1] - s[1]) * (s[2] - s[0]) / (s[3] - s[1]))
-      {
-        odd = !odd;
-      }
-    }
-    inside[static_cast<std::size_t>(i)] = odd ? 1 : 0;
+    inside[static_cast<std::size_t>(i)] = curves->Inside(gridfree::Vec2(p[0], p[1])) ? 1 : 0;
   }
   return inside;
 }
