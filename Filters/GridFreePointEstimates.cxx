@@ -15,11 +15,13 @@
 #include "vtkPointData.h"
 #include "vtkDoubleArray.h"
 #include "vtkIntArray.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkFieldData.h"
 #include "vtkOutputWindow.h"
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
 
@@ -85,7 +87,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   std::string name = built.Name;
   auto collides = [pd](const std::string& stem)
   {
-    for (const char* suffix : { "", "_Variance", "_Gradient", "_Hessian", "_Laplacian" })
+    for (const char* suffix : { "", "_Variance", "_Gradient", "_Hessian", "_Laplacian",
+           "_VarianceReliable", "_VarianceRelativeError" })
     {
       if (pd->GetAbstractArray((stem + suffix).c_str()))
       {
@@ -131,6 +134,15 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     laplacian = MakeArray(name + "_Laplacian", nc, numPoints);
     laplacianVariance = MakeArray(name + "_Laplacian_Variance", nc, numPoints);
   }
+  // Whether each point's error bar can be trusted (ErrorBarReliability.h):
+  // 1 or 0 (0 also for points an abort left out), and the variance's own
+  // relative standard error, which says how far to trust it.
+  auto reliable = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  reliable->SetName((name + "_VarianceReliable").c_str());
+  reliable->SetNumberOfTuples(numPoints);
+  reliable->Fill(0);
+  auto varianceError = MakeArray(name + "_VarianceRelativeError", 1, numPoints);
+  std::atomic<vtkIdType> unevenWeights{ 0 }, oneWalkSpread{ 0 };
   auto steps = MakeArray("WalkSteps", 1, numPoints);
   auto escaped = MakeArray("EscapedFraction", 1, numPoints);
   auto truncated = MakeArray("TruncatedFraction", 1, numPoints);
@@ -266,6 +278,17 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
         laplacianVariance->SetValue(i * nc + c, stats.VarianceOfMean(layout.Laplacian + c));
       }
     }
+    const ErrorBarCheck check = problem.ErrorBar(stats, counters, layout);
+    reliable->SetValue(i, check.Reliable ? 1 : 0);
+    varianceError->SetValue(i, check.VarianceRelativeError);
+    if (check.WeightVariation > ErrorBarRule().MaxWeightVariation)
+    {
+      unevenWeights.fetch_add(1, std::memory_order_relaxed);
+    }
+    else if (!check.Reliable)
+    {
+      oneWalkSpread.fetch_add(1, std::memory_order_relaxed);
+    }
     steps->SetValue(i, counters.MeanSteps());
     if (walksAtPoint)
     {
@@ -301,6 +324,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     pd->AddArray(laplacian);
     pd->AddArray(laplacianVariance);
   }
+  pd->AddArray(reliable);
+  pd->AddArray(varianceError);
   pd->AddArray(steps);
   if (walksAtPoint)
   {
@@ -342,7 +367,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     AddFieldValue(fd, "WalksPerSecond", walksPerSecond);
     AddFieldValue(fd, "MeanStepsPerWalk", meanSteps);
     AddFieldValue(fd, "EscapedWalkFraction", escapedFraction);
+    AddFieldValue(fd, "UnreliableErrorBars", static_cast<double>(summary.UnreliableErrorBars));
   }
+  result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
   // Debug level: shown in ParaView's Output Messages when the filter's
   // Debug property (advanced) is on, and by vtkObject::DebugOn elsewhere.
   // Not vtkDebugWithObjectMacro: release builds (NDEBUG) compile it out.
@@ -392,6 +419,32 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
                     << ": raise Walks Per Point or the target, or refine (Refine Until Target "
                        "in the GUI).");
     }
+  }
+  // Error bars that cannot be trusted: said by the solve that starts
+  // afresh (a refinement continues on purpose; the field and the array
+  // keep the count).
+  if (summary.UnreliableErrorBars > 0 && startWalks == 0 && run.ReportUnreliableErrorBars)
+  {
+    std::ostringstream why;
+    if (unevenWeights.load() > 0)
+    {
+      why << " " << unevenWeights.load()
+          << " of them because their walks' screening weights are very uneven (the screening "
+             "length 1/sqrt(ScreeningCoefficient) is short against the distance to the "
+             "boundary): their value rests on rare walks, and more walks do not remove the "
+             "doubt; compare solves with different seeds and walk counts before using them.";
+    }
+    if (oneWalkSpread.load() > 0)
+    {
+      why << " " << oneWalkSpread.load()
+          << " of them because all their walks, or all but one, gave the same value although "
+             "they could have given others: raise Walks Per Point, or set a target standard "
+             "error, which walks on at such points.";
+    }
+    GRIDFREE_WARN(<< summary.UnreliableErrorBars << " of " << numPoints << " probe points have "
+                  << "error bars that cannot be trusted (" << name
+                  << "_VarianceReliable = 0): their " << name
+                  << "_Variance may be far too small." << why.str());
   }
   // NaN results of finite probe points: walks whose coordinates overflowed
   // (points far beyond the boundary's scale) end with no boundary value.

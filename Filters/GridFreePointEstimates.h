@@ -46,6 +46,9 @@ struct PointEstimateRun
   // Warn about points short of the target standard error (a time budget
   // says it for the whole solve instead).
   bool ReportShortOfTarget = true;
+  // Warn about points whose error bar cannot be trusted (the application
+  // filters' inner solves do not: their outputs are not these estimates).
+  bool ReportUnreliableErrorBars = true;
 };
 
 struct PointEstimateSummary
@@ -57,6 +60,8 @@ struct PointEstimateSummary
   // Target-error mode: points that took every walk allowed with a standard
   // error still above the target.
   std::int64_t PointsShortOfTarget = 0;
+  // Points whose error bar cannot be trusted (ErrorBarReliability.h).
+  std::int64_t UnreliableErrorBars = 0;
 };
 
 // The coordinates of `data`'s points, in order.

@@ -99,6 +99,7 @@ bool EstimateWithinTimeBudget(vtkAlgorithm* reporter, const BuiltProblem& proble
       summary.ResumedWalksPerPoint = one.ResumedWalksPerPoint;
     }
     summary.PointsShortOfTarget = one.PointsShortOfTarget;
+    summary.UnreliableErrorBars = one.UnreliableErrorBars;
     if (!completed || walks >= most || (target && one.PointsShortOfTarget == 0))
     {
       break;

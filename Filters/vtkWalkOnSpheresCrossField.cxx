@@ -1,6 +1,7 @@
 #include "vtkWalkOnSpheresCrossField.h"
 
 #include <gridfree/applications/CrossField.h>
+#include <gridfree/applications/CrossFieldWinding.h>
 #include "GridFreeArrays.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -23,7 +24,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkWalkOnSpheresCrossField);
@@ -77,6 +80,57 @@ bool Inside(const std::vector<Segment>& segments, const gridfree::Vec2& p)
   return inside;
 }
 
+// The boundary's closed loops, each with the domain on its left, from its
+// segments (joined where they share an end point, whichever way each runs).
+// False when the segments do not form closed loops (an end point not shared
+// by exactly two segments).
+bool LoopsOf(const std::vector<Segment>& segments, std::vector<std::vector<gridfree::Vec2>>& loops)
+{
+  using Key = std::pair<double, double>;
+  std::map<Key, std::vector<std::size_t>> ends;
+  for (std::size_t k = 0; k < segments.size(); ++k)
+  {
+    ends[{ segments[k].A.x(), segments[k].A.y() }].push_back(k);
+    ends[{ segments[k].B.x(), segments[k].B.y() }].push_back(k);
+  }
+  for (const auto& e : ends)
+  {
+    if (e.second.size() != 2)
+    {
+      return false;
+    }
+  }
+  std::vector<char> used(segments.size(), 0);
+  for (std::size_t first = 0; first < segments.size(); ++first)
+  {
+    if (used[first])
+    {
+      continue;
+    }
+    std::vector<gridfree::Vec2> loop;
+    std::size_t k = first;
+    gridfree::Vec2 at = segments[k].A;
+    while (!used[k])
+    {
+      used[k] = 1;
+      loop.push_back(at);
+      at = (segments[k].A == at) ? segments[k].B : segments[k].A;
+      const auto& pair = ends.at({ at.x(), at.y() });
+      k = pair[0] == k ? pair[1] : pair[0];
+    }
+    // The domain on the left: test a point just left of the first side.
+    const gridfree::Vec2 next = loop.size() > 1 ? loop[1] : loop[0];
+    const gridfree::Vec2 d = next - loop[0];
+    const gridfree::Vec2 left = 0.5 * (loop[0] + next) + 1e-6 * gridfree::Vec2(-d.y(), d.x());
+    if (!Inside(segments, left))
+    {
+      std::reverse(loop.begin(), loop.end());
+    }
+    loops.push_back(std::move(loop));
+  }
+  return true;
+}
+
 // Radical inverse in base b: the Halton sequence spreads the seeds evenly.
 double RadicalInverse(unsigned long long index, unsigned base)
 {
@@ -95,6 +149,22 @@ vtkWalkOnSpheresCrossField::vtkWalkOnSpheresCrossField()
 }
 
 vtkWalkOnSpheresCrossField::~vtkWalkOnSpheresCrossField() = default;
+
+void vtkWalkOnSpheresCrossField::SetSearchMethod(int method)
+{
+  if (method != WINDING && method != SEED_DESCENT)
+  {
+    vtkErrorMacro(<< "SearchMethod " << method
+                  << " is not a choice: 0 (winding) or 1 (seed descent). It stays "
+                  << this->SearchMethod << ".");
+    return;
+  }
+  if (method != this->SearchMethod)
+  {
+    this->SearchMethod = method;
+    this->Modified();
+  }
+}
 
 int vtkWalkOnSpheresCrossField::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -271,32 +341,72 @@ int vtkWalkOnSpheresCrossField::RequestData(
       return true;
     };
 
-    // Seeds: a Halton sequence over the boundary's box, inside points only.
-    std::vector<gridfree::Vec2> seeds;
-    const unsigned long long start =
-      1 + static_cast<unsigned long long>(static_cast<unsigned>(this->Seed)) * 7919ULL;
-    for (unsigned long long k = 0;
-         static_cast<int>(seeds.size()) < this->NumberOfSeeds && k < 1000ULL * this->NumberOfSeeds;
-         ++k)
-    {
-      const gridfree::Vec2 p(bounds[0] + (bounds[1] - bounds[0]) * RadicalInverse(start + k, 2),
-        bounds[2] + (bounds[3] - bounds[2]) * RadicalInverse(start + k, 3));
-      if (Inside(segments, p))
-      {
-        seeds.push_back(p);
-      }
-    }
+    // Poincaré–Hopf: what the indices inside must add up to, from the
+    // boundary's corners (when its lines form closed loops).
+    std::vector<std::vector<gridfree::Vec2>> loops;
+    const bool closedLoops = LoopsOf(segments, loops);
+    bool ambiguous = false;
+    const int boundarySum = closedLoops ? gridfree::BoundaryWinding(loops, &ambiguous) : 0;
+    const bool checkable = closedLoops && !ambiguous;
 
-    gridfree::SingularitySettings settings;
-    settings.MaxIterations = this->MaximumSearchSteps;
-    settings.InitialStep = 0.01 * diagonal;
-    settings.MaxStep = 0.1 * diagonal;
-    settings.MinStep = 1e-6 * diagonal;
-    settings.MergeRadius = this->MergeRadius * diagonal;
-    settings.IndexRadius = this->IndexRadius * diagonal;
     gridfree::SingularitySearchStatistics searchStatistics;
-    const std::vector<gridfree::Singularity> singularities =
-      gridfree::FindSingularities(evaluate, seeds, settings, &searchStatistics);
+    gridfree::WindingSearchStatistics windingStatistics;
+    std::vector<gridfree::Vec2> seeds;
+    std::vector<gridfree::Singularity> singularities;
+    int gridCells = this->SearchGridCells;
+    if (this->SearchMethod == WINDING)
+    {
+      // The grid only covers cells wholly inside: where the indices found
+      // fall short of the boundary's (singularities in narrow parts or near
+      // corners), the grid is doubled, up to 8 times as fine.
+      for (;;)
+      {
+        gridfree::WindingSearchSettings settings;
+        settings.GridCells = gridCells;
+        settings.MaxLevels = this->SearchRefinements;
+        singularities = gridfree::FindSingularitiesByWinding(
+          evaluate, [&segments](const gridfree::Vec2& p) { return Inside(segments, p); },
+          gridfree::Vec2(bounds[0], bounds[2]), gridfree::Vec2(bounds[1], bounds[3]), settings,
+          &windingStatistics);
+        int sum = 0;
+        for (const gridfree::Singularity& s : singularities)
+        {
+          sum += s.Index;
+        }
+        if (windingStatistics.Aborted || !checkable || sum == boundarySum ||
+          gridCells >= std::min(8 * this->SearchGridCells, 1024))
+        {
+          break;
+        }
+        gridCells = std::min(2 * gridCells, 1024);
+      }
+      searchStatistics.Aborted = windingStatistics.Aborted;
+    }
+    else
+    {
+      // Seeds: a Halton sequence over the boundary's box, inside points only.
+      const unsigned long long start =
+        1 + static_cast<unsigned long long>(static_cast<unsigned>(this->Seed)) * 7919ULL;
+      for (unsigned long long k = 0;
+           static_cast<int>(seeds.size()) < this->NumberOfSeeds && k < 1000ULL * this->NumberOfSeeds;
+           ++k)
+      {
+        const gridfree::Vec2 p(bounds[0] + (bounds[1] - bounds[0]) * RadicalInverse(start + k, 2),
+          bounds[2] + (bounds[3] - bounds[2]) * RadicalInverse(start + k, 3));
+        if (Inside(segments, p))
+        {
+          seeds.push_back(p);
+        }
+      }
+      gridfree::SingularitySettings settings;
+      settings.MaxIterations = this->MaximumSearchSteps;
+      settings.InitialStep = 0.01 * diagonal;
+      settings.MaxStep = 0.1 * diagonal;
+      settings.MinStep = 1e-6 * diagonal;
+      settings.MergeRadius = this->MergeRadius * diagonal;
+      settings.IndexRadius = this->IndexRadius * diagonal;
+      singularities = gridfree::FindSingularities(evaluate, seeds, settings, &searchStatistics);
+    }
     if (searchStatistics.Aborted)
     {
       if (!this->CheckAbort())
@@ -335,16 +445,61 @@ int vtkWalkOnSpheresCrossField::RequestData(
       singularityOutput->GetPointData()->AddArray(a);
     }
     singularityOutput->GetPointData()->SetActiveScalars("Index");
-    // How the seeds ended, for judging a search that found nothing.
     vtkFieldData* fd = singularityOutput->GetFieldData();
-    gridfree::AddFieldValue(fd, "Seeds", static_cast<double>(seeds.size()));
-    gridfree::AddFieldValue(fd, "SeedsConverged", searchStatistics.SeedsConverged);
-    gridfree::AddFieldValue(fd, "SeedsStalled", searchStatistics.SeedsStalled);
-    gridfree::AddFieldValue(fd, "SeedsNotAtZero", searchStatistics.SeedsNotZero);
-    gridfree::AddFieldValue(fd, "SeedsStillMoving", searchStatistics.SeedsMaxIterations);
-    gridfree::AddFieldValue(fd, "ClustersOfIndexZero", searchStatistics.ClustersZeroIndex);
-    gridfree::AddFieldValue(fd, "ClustersUnresolved", searchStatistics.ClustersUnresolved);
-    gridfree::AddFieldValue(fd, "SearchIterations", searchStatistics.Iterations);
+    if (this->SearchMethod == WINDING)
+    {
+      gridfree::AddFieldValue(fd, "SearchGridCellsUsed", gridCells);
+      gridfree::AddFieldValue(fd, "GridCellsInside", windingStatistics.GridCellsInside);
+      gridfree::AddFieldValue(fd, "UnresolvedRegions", windingStatistics.UnresolvedRegions);
+    }
+    else
+    {
+      // How the seeds ended, for judging a search that found nothing.
+      gridfree::AddFieldValue(fd, "Seeds", static_cast<double>(seeds.size()));
+      gridfree::AddFieldValue(fd, "SeedsConverged", searchStatistics.SeedsConverged);
+      gridfree::AddFieldValue(fd, "SeedsStalled", searchStatistics.SeedsStalled);
+      gridfree::AddFieldValue(fd, "SeedsNotAtZero", searchStatistics.SeedsNotZero);
+      gridfree::AddFieldValue(fd, "SeedsStillMoving", searchStatistics.SeedsMaxIterations);
+      gridfree::AddFieldValue(fd, "ClustersOfIndexZero", searchStatistics.ClustersZeroIndex);
+      gridfree::AddFieldValue(fd, "ClustersUnresolved", searchStatistics.ClustersUnresolved);
+      gridfree::AddFieldValue(fd, "SearchIterations", searchStatistics.Iterations);
+    }
+
+    // Poincaré–Hopf: the indices found against the boundary's.
+    int indexSum = 0;
+    for (const gridfree::Singularity& s : singularities)
+    {
+      indexSum += s.Index;
+    }
+    gridfree::AddFieldValue(fd, "IndexSum", indexSum);
+    if (closedLoops)
+    {
+      gridfree::AddFieldValue(fd, "BoundaryIndexSum", boundarySum);
+      if (ambiguous)
+      {
+        vtkWarningMacro(<< "The boundary turns by 45 degrees (or 135) at a corner, where psi "
+                           "vanishes: a singularity sits on the boundary there, and the indices "
+                           "inside need not add up to the boundary's.");
+      }
+      else if (indexSum != boundarySum)
+      {
+        vtkWarningMacro(<< "The singularities found have indices summing to " << indexSum
+                        << " quarter turns, but the boundary requires " << boundarySum
+                        << " (Poincare-Hopf): "
+                        << (this->SearchMethod == WINDING
+                               ? "some lie too close to the boundary even for a grid 8 times "
+                                 "as fine, or in regions the noise leaves unresolved (see "
+                                 "UnresolvedRegions): raise SearchGridCells or "
+                                 "SearchWalksPerPoint."
+                               : "the seed descent missed some: use SearchMethod WINDING, or "
+                                 "raise NumberOfSeeds and SearchWalksPerPoint."));
+      }
+    }
+    else
+    {
+      vtkWarningMacro(<< "The boundary's lines do not form closed loops: the singularities' "
+                         "indices are not checked against it.");
+    }
 
     if (this->TraceSeparatrices && !singularities.empty())
     {
@@ -424,6 +579,9 @@ void vtkWalkOnSpheresCrossField::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SearchSingularities: " << this->SearchSingularities << "\n";
   os << indent << "TraceSeparatrices: " << this->TraceSeparatrices << "\n";
+  os << indent << "SearchMethod: " << this->SearchMethod << "\n";
+  os << indent << "SearchGridCells: " << this->SearchGridCells << "\n";
+  os << indent << "SearchRefinements: " << this->SearchRefinements << "\n";
   os << indent << "NumberOfSeeds: " << this->NumberOfSeeds << "\n";
   os << indent << "SearchWalksPerPoint: " << this->SearchWalksPerPoint << "\n";
   os << indent << "MergeRadius: " << this->MergeRadius << "\n";

@@ -22,14 +22,30 @@
  * Output 1 (SearchSingularities): the singularities, zeros of ψ, as
  * vertices with Index (the winding number of ψ, i.e. the cross-field index
  * in quarter turns: +1 for a three-armed, −1 for a five-armed singularity),
- * IndexResidual (distance of the averaged index formula from that integer),
- * PsiMagnitude and SeedCount. They are found by gradient descent on |ψ|²
- * (dx/dt = −2⟨ψ, ∇ψ⟩) from NumberOfSeeds points spread inside the
- * boundary, each descent step one solve for all seeds still moving; the
- * index is the paper's n = −i (|x − x*| / ψ) D_u ψ averaged on a circle of
- * IndexRadius around the zero (the winding number of ψ on that circle, exact
- * for any zero inside it, and robust to noise). For a domain of Euler
- * characteristic χ, the indices sum to 4χ.
+ * IndexResidual, PsiMagnitude, SeedCount and IndexRadius. Two searches
+ * (SearchMethod):
+ * - WINDING (default): the winding of ψ around the cells of a grid of
+ *   SearchGridCells cells along the longer side, refined SearchRefinements
+ *   times where it winds (gridfree/applications/CrossFieldWinding.h); the
+ *   grid only covers cells wholly inside, so where the indices found fall
+ *   short of the boundary's, the search is repeated on a grid twice as fine,
+ *   up to 8 times as fine (field data SearchGridCellsUsed). The
+ *   windings of all cells add up to the winding around the grid, so no zero
+ *   inside it is missed, flat ones (winding ±2) included; zeros closer
+ *   together than the noise resolves are one singularity with their summed
+ *   index. SeedCount holds the cells of its region, IndexRadius half its
+ *   size.
+ * - SEED_DESCENT: gradient descent on |ψ|² (dx/dt = −2⟨ψ, ∇ψ⟩) from
+ *   NumberOfSeeds points spread inside the boundary, each descent step one
+ *   solve for all seeds still moving; the index is the paper's
+ *   n = −i (|x − x*| / ψ) D_u ψ averaged on a circle of IndexRadius around
+ *   the zero. A seed may stop short of a flat zero, or no seed reach one.
+ * Either way the indices are checked against the boundary (Poincaré–Hopf):
+ * at a corner where the boundary turns by α, ψ turns by 4α wrapped into
+ * (−π, π], and the sum over the corners (4χ for a smooth boundary, χ the
+ * Euler characteristic) is what the indices inside add up to. The field data
+ * IndexSum and BoundaryIndexSum hold both (quarter turns); a warning gives
+ * both when they differ.
  *
  * Output 2 (TraceSeparatrices): separatrices, polylines from each
  * singularity of index n along the |4 − n| directions where the cross points
@@ -77,10 +93,39 @@ public:
   vtkBooleanMacro(TraceSeparatrices, bool);
   ///@}
 
+  enum SearchMethods
+  {
+    WINDING = 0,
+    SEED_DESCENT = 1
+  };
+
   ///@{
   /**
-   * Starting points of the singularity search, spread inside the boundary
-   * (default 32; the same Seed gives the same points).
+   * How singularities are found (default WINDING; see the class notes). A
+   * value out of range is an error that names the choices.
+   */
+  void SetSearchMethod(int method);
+  vtkGetMacro(SearchMethod, int);
+  void SetSearchMethodToWinding() { this->SetSearchMethod(WINDING); }
+  void SetSearchMethodToSeedDescent() { this->SetSearchMethod(SEED_DESCENT); }
+  ///@}
+
+  ///@{
+  /**
+   * WINDING: cells of the grid along the longer side of the boundary's box
+   * (default 16), and times a cell whose ψ winds is split in four (default
+   * 5: singularities placed to within a 512th of the box).
+   */
+  vtkSetClampMacro(SearchGridCells, int, 2, 1024);
+  vtkGetMacro(SearchGridCells, int);
+  vtkSetClampMacro(SearchRefinements, int, 0, 10);
+  vtkGetMacro(SearchRefinements, int);
+  ///@}
+
+  ///@{
+  /**
+   * SEED_DESCENT: starting points of the singularity search, spread inside
+   * the boundary (default 32; the same Seed gives the same points).
    */
   vtkSetClampMacro(NumberOfSeeds, int, 1, 100000);
   vtkGetMacro(NumberOfSeeds, int);
@@ -148,6 +193,9 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   bool SearchSingularities = true;
+  int SearchMethod = WINDING;
+  int SearchGridCells = 16;
+  int SearchRefinements = 5;
   bool TraceSeparatrices = true;
   int NumberOfSeeds = 32;
   int SearchWalksPerPoint = 1024;

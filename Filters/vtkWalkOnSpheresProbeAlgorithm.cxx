@@ -195,6 +195,7 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   gridfree::PointEstimateRun run;
   run.ProgressBegin = begin;
   run.ProgressEnd = end;
+  run.ReportUnreliableErrorBars = false;
   run.Warn = [&warnings](const std::string& text) {
     if (std::find(warnings.begin(), warnings.end(), text) == warnings.end())
     {

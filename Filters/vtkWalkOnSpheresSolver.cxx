@@ -400,6 +400,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastDimension = 0;
   this->LastResumedWalksPerPoint = 0;
   this->LastPointsShortOfTarget = 0;
+  this->LastUnreliableErrorBars = 0;
   this->LastWalksPerPointReached = 0;
 
   // The inputs as this rank received them: what kept running sums are keyed on.
@@ -508,6 +509,7 @@ int vtkWalkOnSpheresSolver::RequestData(
     this->LastDimension = problem.Dimension;
     this->LastResumedWalksPerPoint = summary.ResumedWalksPerPoint;
     this->LastPointsShortOfTarget = static_cast<vtkIdType>(summary.PointsShortOfTarget);
+    this->LastUnreliableErrorBars = static_cast<vtkIdType>(summary.UnreliableErrorBars);
   }
   if (!ok)
   {
@@ -565,6 +567,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastResumedWalksPerPoint: " << this->LastResumedWalksPerPoint << "\n";
   os << indent << "LastPointsShortOfTarget: " << this->LastPointsShortOfTarget << "\n";
+  os << indent << "LastUnreliableErrorBars: " << this->LastUnreliableErrorBars << "\n";
   os << indent << "TimeBudgetSeconds: " << this->TimeBudgetSeconds << "\n";
   os << indent << "LastWalksPerPointReached: " << this->LastWalksPerPointReached << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";

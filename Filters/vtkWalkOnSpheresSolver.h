@@ -447,8 +447,9 @@ public:
    * Target-error mode (when TargetStandardError is positive; default 0, off):
    * each probe point walks until the standard error of its value (the
    * largest over the components) is at most TargetStandardError, checked
-   * after 128 walks and then every 32, and WalksPerPoint is the most a point
-   * takes. Points near the boundary stop early, points deep inside walk
+   * after 128 walks and then every 32 (and the point's error bar is
+   * reliable: GetLastUnreliableErrorBars()), and WalksPerPoint is the most a
+   * point takes. Points near the boundary stop early, points deep inside walk
    * longer. The decision uses only the point's own walks, so the result is
    * the same for any thread count; it is that of a fixed-count solve cut
    * short at each point's count (array WalkCount). With
@@ -575,6 +576,16 @@ public:
   vtkGetMacro(LastPointsShortOfTarget, vtkIdType);
 
   /**
+   * Probe points of the last execution whose error bar cannot be trusted
+   * (NAME_VarianceReliable = 0; Documentation/UserGuide.md, "Error bars you
+   * can trust"): their walks' screening weights are very uneven, or all
+   * their walks gave one value although others were possible. Their
+   * NAME_Variance may be far too small. In target-error mode such points
+   * never stop at the target.
+   */
+  vtkGetMacro(LastUnreliableErrorBars, vtkIdType);
+
+  /**
    * Whether the last execution built the boundary (conversion, hierarchy,
    * distance bounds) or reused the one built before. It is reused while
    * the Boundary input, the implicit boundary and the properties that shape
@@ -660,6 +671,7 @@ protected:
   int LastDimension = 0;
   vtkIdType LastResumedWalksPerPoint = 0;
   vtkIdType LastPointsShortOfTarget = 0;
+  vtkIdType LastUnreliableErrorBars = 0;
   int LastWalksPerPointReached = 0;
   double TimeBudgetSeconds = 0.0;
   bool LastBoundaryBuilt = false;

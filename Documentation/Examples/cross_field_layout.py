@@ -38,7 +38,7 @@ def regular(sides):
 DOMAINS = [
     ("triangle", regular(3), 1024),
     ("pentagon", regular(5), 1024),
-    ("trefoil", [trefoil(2 * math.pi * k / 512) for k in range(512)], 8192),
+    ("trefoil", [trefoil(2 * math.pi * k / 512) for k in range(512)], 2048),
 ]
 
 
@@ -49,7 +49,6 @@ def parse_arguments():
     parser.add_argument("--walks", type=int, default=256, help="walks per cross")
     parser.add_argument("--search-scale", type=float, default=1.0,
                         help="factor on the walks per search estimate")
-    parser.add_argument("--seeds", type=int, default=48)
     return parser.parse_args()
 
 
@@ -95,8 +94,6 @@ def main():
         field = pvs.WalkOnSpheresCrossField(Boundary=curve, Probe=probe)
         field.WalksPerPoint = args.walks
         field.SearchWalksPerPoint = max(2, int(search_walks * args.search_scale))
-        field.NumberOfSeeds = args.seeds
-        field.MergeRadius = 0.04
         field.Seed = 3
         field.UpdatePipeline()
         crosses = servermanager.Fetch(field, idx=0)

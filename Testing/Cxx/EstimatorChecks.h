@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -96,6 +97,23 @@ std::vector<Vec<DIM>> RandomPointsInBox(int count, double half, std::uint32_t se
     }
   }
   return points;
+}
+
+// Points as a batch's probe: three coordinates each, z = 0 in 2D.
+template <int DIM>
+std::vector<std::array<double, 3>> AsProbe(const std::vector<Vec<DIM>>& points)
+{
+  std::vector<std::array<double, 3>> probe;
+  for (const Vec<DIM>& p : points)
+  {
+    std::array<double, 3> xyz = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < DIM; ++k)
+    {
+      xyz[k] = p[k];
+    }
+    probe.push_back(xyz);
+  }
+  return probe;
 }
 
 // Boundary values: the fields sampled at the mesh's vertices, side by side.

@@ -30,22 +30,6 @@ std::shared_ptr<const Boundary<3>> SphereBoundary()
   return boundary;
 }
 
-template <int DIM>
-std::vector<std::array<double, 3>> AsProbe(const std::vector<Vec<DIM>>& points)
-{
-  std::vector<std::array<double, 3>> probe;
-  for (const Vec<DIM>& p : points)
-  {
-    std::array<double, 3> xyz = { 0.0, 0.0, 0.0 };
-    for (int k = 0; k < DIM; ++k)
-    {
-      xyz[k] = p[k];
-    }
-    probe.push_back(xyz);
-  }
-  return probe;
-}
-
 WalkSettings Laplace(double epsilon)
 {
   WalkSettings settings;

@@ -76,8 +76,8 @@ def test_disk_is_z4_and_indices_sum_to_four():
     # psi = z^4 vanishes to fourth order at the centre: a flat zero, so the
     # search needs many walks, a wide merge radius and a wide index circle.
     filter_ = cross_field(regular_closed_polyline(1024), points, WalksPerPoint=4096,
-                          SearchWalksPerPoint=65536, NumberOfSeeds=6, MergeRadius=0.2,
-                          IndexRadius=0.2, Seed=2)
+                          SearchMethod=1, SearchWalksPerPoint=65536, NumberOfSeeds=6,
+                          MergeRadius=0.2, IndexRadius=0.2, Seed=2)
     data = filter_.GetOutput().GetPointData()
     psi = data.GetArray("CrossField")
     variance = data.GetArray("CrossField_Variance")
@@ -151,3 +151,55 @@ def test_errors():
     catcher = MessageCatcher(filter_)
     filter_.Update()
     assert "one z-plane" in catcher.error_text(), catcher.error_text()
+
+
+# Held-out polygons (Poincare-Hopf: the indices inside add up to the sum over
+# the corners of 4 x turn, wrapped into (-180, 180] degrees, over 360).
+HELD_OUT = {
+    "regular hexagon": ([(math.cos(k * math.pi / 3), math.sin(k * math.pi / 3)) for k in range(6)], -2),
+    "irregular hexagon": ([(0, 0), (1.0, -0.15), (1.55, 0.5), (1.2, 1.25), (0.35, 1.4), (-0.3, 0.7)], -2),
+    "irregular pentagon": ([(0, 0), (1.2, 0.1), (1.4, 1.0), (0.6, 1.5), (-0.2, 0.9)], -1),
+    "irregular triangle": ([(0, 0), (1.3, 0.1), (0.4, 1.0)], 1),
+    "arrow (non-convex)": ([(0, 0), (2, 0), (2, -0.5), (3.2, 0.6), (2, 1.7), (2, 1.2), (0, 1.2)], 1),
+}
+
+
+def test_winding_search_matches_the_boundary_at_default_settings():
+    for name, (vertices, expected) in HELD_OUT.items():
+        filter_ = gridfree.vtkWalkOnSpheresCrossField()
+        filter_.SetBoundaryData(closed_polyline(vertices))
+        centroid = (sum(x for x, _ in vertices) / len(vertices),
+                    sum(y for _, y in vertices) / len(vertices), 0.0)
+        filter_.SetProbeData(point_cloud([centroid]))
+        filter_.SetTraceSeparatrices(False)
+        catcher = MessageCatcher(filter_)
+        filter_.Update()
+        assert not catcher.errors and not catcher.warnings, (name, catcher.warning_text())
+        field_data = filter_.GetOutput(1).GetFieldData()
+        found = [index for _, index, _ in singularities(filter_)]
+        assert 0 not in found, name
+        assert sum(found) == expected, (name, found)
+        assert field_data.GetArray("IndexSum").GetValue(0) == expected, name
+        assert field_data.GetArray("BoundaryIndexSum").GetValue(0) == expected, name
+
+
+def test_seed_descent_misses_the_regular_hexagon_and_says_so():
+    # psi ~ r^2 around the hexagon's centre: too flat for the seeds at 1024
+    # walks. The check against the boundary catches it.
+    vertices, expected = HELD_OUT["regular hexagon"]
+    filter_ = gridfree.vtkWalkOnSpheresCrossField()
+    filter_.SetBoundaryData(closed_polyline(vertices))
+    filter_.SetProbeData(point_cloud([(0.1, 0.1, 0.0)]))
+    filter_.SetTraceSeparatrices(False)
+    filter_.SetSearchMethodToSeedDescent()
+    catcher = MessageCatcher(filter_)
+    filter_.Update()
+    found = sum(index for _, index, _ in singularities(filter_))
+    assert found != expected
+    assert ("indices summing to %d quarter turns, but the boundary requires %d" % (found, expected)
+            in catcher.warning_text())
+    bad = gridfree.vtkWalkOnSpheresCrossField()
+    errors = MessageCatcher(bad)
+    bad.SetSearchMethod(5)
+    assert "SearchMethod 5 is not a choice" in errors.error_text()
+    assert bad.GetSearchMethod() == 0

@@ -142,6 +142,25 @@ public:
                        : this->Primitives.size();
   }
   bool IsMesh() const { return !this->Shape; }
+  // Whether every boundary value is the same (a value table whose tuples,
+  // both sides included, are all equal); false for values from a function,
+  // which may vary.
+  bool ConstantValues() const
+  {
+    if (this->ValueFunction || this->Values.empty())
+    {
+      return false;
+    }
+    const std::size_t nc = static_cast<std::size_t>(this->Components());
+    for (std::size_t i = 0; i < this->Values.size(); ++i)
+    {
+      if (!(this->Values[i] == this->Values[i % nc]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
   const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }

@@ -95,6 +95,8 @@ struct SampleLayout
   int Curl = -1;
   int TailMean = -1;
   int SourceMean = -1;
+  // The screened walk's weight (WalkOnSpheresEstimator::WeightSlot()).
+  int Weight = -1;
   int Size = 0;
 };
 
@@ -159,6 +161,11 @@ public:
     {
       l.SourceMean = next;
       next += this->Nc;
+    }
+    if (settings.Problem == Equation::ScreenedPoisson)
+    {
+      l.Weight = next;
+      next += 1;
     }
     l.Size = next;
     const int components = boundary.Components();
@@ -343,6 +350,10 @@ private:
         end = this->Walker.Walk(x0, escapeRadius, rng, this->ValueWalk.data(), steps,
           counters.Returns);
         totalSteps += steps;
+        if (l.Weight >= 0)
+        {
+          this->Sample[l.Weight] = this->Walker.LastWeight();
+        }
         for (int c = 0; c < nc; ++c)
         {
           this->Sample[l.Value + c] = this->ValueWalk[c];
@@ -388,6 +399,11 @@ private:
         if (status == DerivativeStatus::Interior)
         {
           end = tailEnd;
+          if (l.Weight >= 0)
+          {
+            // The value is C·(tail − …): the first ball's weight times the tail walk's.
+            this->Sample[l.Weight] = weightC * this->Walker.LastWeight();
+          }
         }
         const Mat<DIM> nuNu = nu * nu.transpose();
         const Mat<DIM> identity = Mat<DIM>::Identity();

@@ -204,12 +204,33 @@ public:
   }
 
   // Numbers per sample: the solution's components, and for the biharmonic
-  // equation as many again for Δu.
+  // equation as many again for Δu; for the screened equation one more, the
+  // walk's weight (WeightSlot()).
   int OutputComponents() const
   {
-    return this->Settings.Problem == Equation::Biharmonic ? 2 * this->SolutionComponents
-                                                          : this->SolutionComponents;
+    switch (this->Settings.Problem)
+    {
+      case Equation::Biharmonic:
+        return 2 * this->SolutionComponents;
+      case Equation::ScreenedPoisson:
+        return this->SolutionComponents + 1;
+      default:
+        return this->SolutionComponents;
+    }
   }
+
+  // Where a screened walk's sample holds its weight W = Π C_k (0 for a walk
+  // ended by roulette), or −1. E[W] is the solution for g = 1: when the
+  // weights of a point's walks are very uneven, its value rests on the few
+  // walks that kept their weight, and walks not yet seen can dominate it
+  // (ErrorBarReliability.h).
+  int WeightSlot() const
+  {
+    return this->Settings.Problem == Equation::ScreenedPoisson ? this->SolutionComponents : -1;
+  }
+
+  // The weight the last walk ended with (1 for the unscreened equations).
+  double LastWeight() const { return this->EndWeight; }
 
   // Centre and radius of the sphere enclosing the boundary and the sources
   // with bounded support; a volume source with unbounded support (an
@@ -255,12 +276,17 @@ public:
     }
     const double escapeRadius = this->EscapeRadius(x0);
     const std::uint64_t key = PointKey(seed, probeXYZ);
+    const int weightSlot = this->WeightSlot();
     for (int w = 0; w < walks; ++w)
     {
       RandomStream rng(key, firstWalk + static_cast<std::uint64_t>(w));
       int steps = 0;
       const WalkEnd end =
         this->Walk(x0, escapeRadius, rng, this->Sample.data(), steps, counters.Returns);
+      if (weightSlot >= 0)
+      {
+        this->Sample[weightSlot] = this->EndWeight;
+      }
       stats.Add(this->Sample.data());
       counters.Walks += 1;
       counters.Steps += static_cast<std::uint64_t>(steps);
@@ -413,6 +439,7 @@ private:
     {
       sample[c] = this->Accumulated[c] + weight * this->BoundaryValue[c];
     }
+    this->EndWeight = hasBoundaryValue ? weight : 0.0;
     if constexpr (biharmonic)
     {
       Policy::Finish(sample, this->BoundaryValue.data(), ballIntegrals, nc);
@@ -507,6 +534,7 @@ private:
   Vec<DIM> Center = Vec<DIM>::Zero();
   double Radius = 0.0;
   bool BoundedSupport = true;
+  double EndWeight = 1.0;
   // Scratch (one estimator per thread): boundary values at the walk's end,
   // inner-walk values and source integrals, the running source sum, a sample.
   std::vector<double> BoundaryValue;

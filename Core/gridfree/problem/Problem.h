@@ -21,6 +21,7 @@
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/sources/SourceSet.h>
+#include <gridfree/statistics/ErrorBarReliability.h>
 #include <gridfree/statistics/RunningStatistics.h>
 #include <gridfree/statistics/RunningSumsCache.h>
 
@@ -61,6 +62,8 @@ struct BatchRequest
   // same for any thread count. A batch with a larger WalksPerPoint resumes
   // from kept sums in this mode too: points that stopped at the target keep
   // their numbers, the others continue, as one batch with that maximum would.
+  // A point whose error bar is not reliable (ErrorBarReliability.h) does not
+  // stop: its small standard error may be an artefact of heavy tails.
   double TargetStandardError = 0.0;
 
   bool DerivativeWalks() const
@@ -113,6 +116,8 @@ struct BatchSummary
   WalkCounters Totals;          // over finished points, resumed walks included
   std::array<std::uint64_t, 3> StatusCounts = { 0, 0, 0 }; // per DerivativeStatus
   bool UnboundedSource = false; // a volume source with unbounded support met the exterior
+  // Finished points whose error bar is not reliable (ErrorBarReliability.h).
+  std::uint64_t UnreliableErrorBars = 0;
   double Seconds = 0.0;
 };
 
@@ -126,6 +131,7 @@ struct BatchEstimates
   std::vector<WalkCounters> Counters;
   std::vector<DerivativeStatus> Status;
   std::vector<unsigned char> Finished; // 0 for points an abort left out
+  std::vector<ErrorBarCheck> ErrorBars;
 
   double Mean(std::size_t point, int slot) const
   {
@@ -189,6 +195,8 @@ public:
     {
       throw std::invalid_argument("the screening coefficient must be positive");
     }
+    this->ConstantData =
+      this->Shape->ConstantValues() && (!this->Sources || this->Sources->Empty());
   }
 
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
@@ -219,8 +227,28 @@ public:
     const int nc = this->SolutionComponents();
     layout.Value = 0;
     layout.Laplacian = this->Walk.Problem == Equation::Biharmonic ? nc : -1;
-    layout.Size = this->Walk.Problem == Equation::Biharmonic ? 2 * nc : nc;
+    layout.Weight = this->Walk.Problem == Equation::ScreenedPoisson ? nc : -1;
+    layout.Size = this->Walk.Problem == Equation::Biharmonic ? 2 * nc
+      : layout.Weight >= 0                                   ? nc + 1
+                                                             : nc;
     return layout;
+  }
+
+  // Whether a finished point's error bar can be trusted, from its
+  // statistics and counters (ErrorBarReliability.h): what the sink can
+  // report per point.
+  ErrorBarCheck ErrorBar(
+    const RunningStatistics& stats, const WalkCounters& counters, const SampleLayout& layout) const
+  {
+    return CheckErrorBar(stats, layout.Value, this->SolutionComponents(), layout.Weight,
+      this->SpreadPossible(counters));
+  }
+
+  // Whether the walks of a point with these counters could have given
+  // different values: they took steps, and the data are not constant.
+  bool SpreadPossible(const WalkCounters& counters) const
+  {
+    return counters.Steps > 0 && !this->ConstantData;
   }
 
   // Runs request.WalksPerPoint walks at every point (the first DIM of its
@@ -253,7 +281,7 @@ public:
         numPoints, sampleSize, derivativeWalks, target, static_cast<std::uint64_t>(walks));
     if (kept && !resumed)
     {
-      kept->Reset(numPoints, sampleSize, derivativeWalks, target);
+      kept->Reset(numPoints, sampleSize, derivativeWalks, target, this->SolutionComponents());
     }
     const int startWalks = resumed ? static_cast<int>(kept->KeptWalks()) : 0;
     summary.ResumedWalksPerPoint = startWalks;
@@ -302,9 +330,10 @@ public:
 
     std::mutex totalsMutex;
     auto addTotals = [&](const WalkCounters& sum, const std::array<std::uint64_t, 3>& counts,
-                       bool bounded) {
+                       bool bounded, std::uint64_t unreliable) {
       std::lock_guard<std::mutex> lock(totalsMutex);
       summary.Totals.Add(sum);
+      summary.UnreliableErrorBars += unreliable;
       for (int k = 0; k < 3; ++k)
       {
         summary.StatusCounts[k] += counts[k];
@@ -326,8 +355,9 @@ public:
           auto volume = this->MakeVolume();
           WalkCounters sum;
           std::array<std::uint64_t, 3> counts = { 0, 0, 0 };
+          std::uint64_t unreliable = 0;
           auto runPoints = [&](auto& estimator) {
-            RunningStatistics stats(sampleSize);
+            RunningStatistics stats(sampleSize, valueComponents);
             for (std::size_t i = begin; i < end && !cancel.load(std::memory_order_relaxed); ++i)
             {
               WalkCounters counters;
@@ -350,8 +380,9 @@ public:
                 {
                   if (!stopped &&
                     !EstimateToTarget(estimator, points[i].data(), seed,
-                      static_cast<int>(stats.SampleCount()), walks, target, valueComponents, stats,
-                      counters, cancel, walksDone, status, stopped))
+                      static_cast<int>(stats.SampleCount()), walks, target, valueComponents,
+                      summary.Layout.Weight, !this->ConstantData, stats, counters, cancel,
+                      walksDone, status, stopped))
                   {
                     return false;
                   }
@@ -380,6 +411,7 @@ public:
                 counts[static_cast<int>(status)] += 1;
               }
               sum.Add(counters);
+              unreliable += this->ErrorBar(stats, counters, summary.Layout).Reliable ? 0 : 1;
               sink(i, stats, counters, status);
             }
           };
@@ -398,7 +430,7 @@ public:
             runPoints(estimator);
             bounded = estimator.SourceSupportIsBounded();
           }
-          addTotals(sum, counts, bounded);
+          addTotals(sum, counts, bounded, unreliable);
         },
         report);
     }
@@ -435,9 +467,11 @@ public:
     out.Counters.assign(out.Points, WalkCounters());
     out.Status.assign(out.Points, DerivativeStatus::Unavailable);
     out.Finished.assign(out.Points, 0);
+    out.ErrorBars.assign(out.Points, ErrorBarCheck());
+    const SampleLayout layout = this->Layout(request);
     out.Summary = this->Estimate(points, request,
-      [&out, size](std::size_t i, const RunningStatistics& stats, const WalkCounters& counters,
-        DerivativeStatus status) {
+      [this, &out, &layout, size](std::size_t i, const RunningStatistics& stats,
+        const WalkCounters& counters, DerivativeStatus status) {
         for (std::size_t s = 0; s < size; ++s)
         {
           out.Means[i * size + s] = stats.GetMean(static_cast<int>(s));
@@ -446,6 +480,7 @@ public:
         out.Counters[i] = counters;
         out.Status[i] = status;
         out.Finished[i] = 1;
+        out.ErrorBars[i] = this->ErrorBar(stats, counters, layout);
       },
       progress, kept);
     return out;
@@ -513,10 +548,13 @@ private:
   // found the target reached; a point cut short by `most` between two
   // checks is not stopped, so that a later batch with a larger maximum
   // continues it to its next check, as a batch with that maximum from the
-  // start would. Returns false when aborted.
+  // start would. A check also requires a reliable error bar
+  // (ErrorBarReliability.h; weightSlot: the screened walk's weight, or −1).
+  // Returns false when aborted.
   template <class Estimator>
   static bool EstimateToTarget(Estimator& estimator, const double xyz[3], std::uint64_t seed,
-    int from, int most, double target, int valueComponents, RunningStatistics& stats,
+    int from, int most, double target, int valueComponents, int weightSlot,
+    bool dataVary, RunningStatistics& stats,
     WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
     DerivativeStatus& status, bool& stopped)
   {
@@ -546,7 +584,9 @@ private:
         // NaN (a component that cannot be estimated) never reaches it.
         reached = stats.VarianceOfMean(c) <= targetVariance;
       }
-      if (reached)
+      if (reached &&
+        CheckErrorBar(stats, 0, valueComponents, weightSlot, dataVary && counters.Steps > 0)
+          .Reliable)
       {
         stopped = true;
         break;
@@ -656,9 +696,11 @@ private:
       },
       report, 0.1, 1);
 
-    RunningStatistics stats(sampleSize);
+    RunningStatistics stats(sampleSize, this->SolutionComponents());
+    const SampleLayout layout = this->Layout(request);
     WalkCounters sum;
     std::array<std::uint64_t, 3> counts = { 0, 0, 0 };
+    std::uint64_t unreliable = 0;
     for (std::size_t i = 0; i < numPoints; ++i)
     {
       const std::size_t firstItem = i * blocksPerPoint;
@@ -690,15 +732,17 @@ private:
         counts[static_cast<int>(status)] += 1;
       }
       sum.Add(counters);
+      unreliable += this->ErrorBar(stats, counters, layout).Reliable ? 0 : 1;
       sink(i, stats, counters, status);
     }
-    addTotals(sum, counts, !unbounded.load());
+    addTotals(sum, counts, !unbounded.load(), unreliable);
     return completed;
   }
 
   std::shared_ptr<const Boundary<DIM>> Shape;
   WalkSettings Walk;
   std::shared_ptr<const SourceSet<DIM>> Sources;
+  bool ConstantData = false; // constant boundary values and no sources
 };
 } // namespace gridfree
 

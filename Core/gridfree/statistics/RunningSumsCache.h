@@ -15,6 +15,7 @@
 #include <gridfree/statistics/RunningStatistics.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,16 +28,19 @@ public:
   /// Empties the cache and sizes it for `points` points of `components`
   /// numbers per walk, with a control-block history of `components` numbers
   /// per point when `history` is set (the derivative estimator), for a batch
-  /// of target standard error `target` (0: a fixed count of walks).
-  void Reset(std::size_t points, int components, bool history, double target = 0.0)
+  /// of target standard error `target` (0: a fixed count of walks). The
+  /// first `tailComponents` numbers of each walk keep higher sums too
+  /// (RunningStatistics).
+  void Reset(std::size_t points, int components, bool history, double target = 0.0,
+    int tailComponents = 0)
   {
     this->NumberOfPoints = points;
     this->NumberOfComponents = components;
     this->KeepsHistory = history;
     this->Target = target;
     this->Kept = 0;
-    this->Sums.Assign(points, components);
-    this->History.Assign(history ? points : 0, components);
+    this->Sums.Assign(points, components, tailComponents);
+    this->History.Assign(history ? points : 0, components, 0);
     this->Counters.assign(points, WalkCounters());
     this->Statuses.assign(points, 0);
     this->StoppedAtTarget.assign(target > 0.0 ? points : 0, 0);
@@ -114,35 +118,49 @@ public:
   }
 
 private:
-  // Welford states (count, means, M2s) of `points` statistics.
+  // Welford states (count, means, M2s, and the M3s and M4s of the first
+  // TailComponents) of `points` statistics.
   struct States
   {
-    void Assign(std::size_t points, int components)
+    void Assign(std::size_t points, int components, int tailComponents)
     {
       this->Components = static_cast<std::size_t>(components);
+      this->TailComponents =
+        static_cast<std::size_t>(std::max(0, std::min(tailComponents, components)));
       this->Counts.assign(points, 0);
       this->Means.assign(points * this->Components, 0.0);
       this->M2s.assign(points * this->Components, 0.0);
+      this->M3s.assign(points * this->TailComponents, 0.0);
+      this->M4s.assign(points * this->TailComponents, 0.0);
     }
     void Load(std::size_t i, RunningStatistics& stats) const
     {
       const std::size_t at = i * this->Components;
-      stats.RestoreState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+      const std::size_t tail = i * this->TailComponents;
+      stats.RestoreState(this->Counts[i], &this->Means[at], &this->M2s[at],
+        this->M3s.data() + tail, this->M4s.data() + tail);
     }
     void Save(std::size_t i, const RunningStatistics& stats)
     {
       const std::size_t at = i * this->Components;
-      stats.SaveState(this->Counts[i], &this->Means[at], &this->M2s[at]);
+      const std::size_t tail = i * this->TailComponents;
+      stats.SaveState(this->Counts[i], &this->Means[at], &this->M2s[at],
+        this->M3s.data() + tail, this->M4s.data() + tail);
     }
     std::size_t MemoryBytes() const
     {
       return this->Counts.capacity() * sizeof(std::size_t) +
-        (this->Means.capacity() + this->M2s.capacity()) * sizeof(double);
+        (this->Means.capacity() + this->M2s.capacity() + this->M3s.capacity() +
+          this->M4s.capacity()) *
+        sizeof(double);
     }
     std::size_t Components = 0;
+    std::size_t TailComponents = 0;
     std::vector<std::size_t> Counts;
     std::vector<double> Means;
     std::vector<double> M2s;
+    std::vector<double> M3s;
+    std::vector<double> M4s;
   };
 
   std::size_t NumberOfPoints = 0;

@@ -1,0 +1,125 @@
+// Whether a point's reported variance (its error bar) can be trusted,
+// judged from its own walks (Documentation/UserGuide.md, "Error bars you can
+// trust").
+//
+// The variance of the mean, s²/N, is itself estimated from the walks. When
+// walk values are heavy-tailed (rare walks far larger than the rest), a
+// point that has not yet seen those walks reports a mean that is too small
+// and a variance that is far too small: |z| reaches tens. Measured on
+// held-out problems (Testing/Cxx/TestErrorBarReliability.cxx), the points
+// with |z| > 5 are those whose large walks are *not yet seen*; the kurtosis
+// of the walks seen (the variance's own relative standard error, reported
+// as VarianceRelativeError) does not single them out: it is as large at
+// near-boundary points of smooth Laplace problems (up to 0.9 at 128 walks)
+// as at the wrong points of heavy-tailed ones (from 0.06). Two signs do:
+//
+//  1. Uneven walk weights (screened equation). A screened walk carries the
+//     weight W = Π C_k (E[W] is the solution for g = 1). When the weights'
+//     coefficient of variation sd(W)/mean(W) exceeds 0.5 (the walks count
+//     as fewer than 80% as many equal-weight walks), the value rests on the
+//     walks that kept their weight, and a straight path to where g is
+//     large, not yet seen, can dominate it. This is a property of the point
+//     and the screening (√c times the distance to the boundary), not of the
+//     walk count: at 4,096 walks such points still showed |z| up to 175, so
+//     more walks do not lift the flag. Light screening (c = 4 on the unit
+//     sphere) stays below 0.3; every wrong point of the strongly screened
+//     cases (c = 100, 400, Yukawa data) is above 0.7.
+//  2. No spread, or the spread of one walk: every walk gave the same value
+//     although the walks took steps and the data are not constant (a walk
+//     can reach other values, it just has not yet): its variance 0 is no
+//     error bar; or all walks but one did, which the walks' skewness shows,
+//     M3²/M2³ = G1²/N > 0.5 (near 1 − 3/N for one odd walk, 1/2 for two).
+//     Data that jump, read with few walks (a diffusion-curves image at 64
+//     walks), give both: with one walk of 64 on the far side of a jump
+//     where 8 were due, |z| reached 6.8. Ordinary skewed walk values stay
+//     below 0.22 (smooth Laplace and mild screening, 128 and 256 walks); the
+//     normal approximation's rule of thumb (N > 25·G1²) is far stricter, so
+//     this flags only a spread made by a single walk. More walks lift it.
+//
+// A point is unreliable when any holds. What it does not catch: a
+// heavy tail of an unscreened problem that no walk has reached while the
+// walks seen still differ (a narrow peak in g reached by one walk in
+// thousands); more walks, or the target-error mode, are the remedy there.
+#ifndef GRIDFREE_STATISTICS_ERROR_BAR_RELIABILITY_H
+#define GRIDFREE_STATISTICS_ERROR_BAR_RELIABILITY_H
+
+#include <gridfree/statistics/RunningStatistics.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gridfree
+{
+struct ErrorBarRule
+{
+  // Above this coefficient of variation of the walk weights (screened
+  // equation), the walks that carry the value are too few.
+  double MaxWeightVariation = 0.5;
+  // Above this M3²/M2³, the spread is made by a single walk.
+  double MaxSkewShare = 0.5;
+};
+
+struct ErrorBarCheck
+{
+  // The variance's relative standard error, the largest over the value's
+  // components (0 when all walks agree; NaN below 4 walks). Reported, not
+  // used to flag (see above).
+  double VarianceRelativeError = 0.0;
+  // The coefficient of variation of the walk weights, sd(W)/mean(W): 0
+  // without weights (unscreened equations), +inf when every walk lost its
+  // weight.
+  double WeightVariation = 0.0;
+  // Every walk gave the same value although it could have given another.
+  bool NoSpread = false;
+  // The largest M3²/M2³ over the value's components (RunningStatistics::
+  // SkewShare); above MaxSkewShare the spread is one walk's.
+  double SkewShare = 0.0;
+  bool Reliable = true;
+};
+
+// Checks one point's statistics: the value's components are slots
+// valueSlot .. valueSlot + valueComponents − 1 (they must keep higher sums:
+// RunningStatistics' tailComponents), the walk weight is at weightSlot (−1:
+// none). `spreadPossible`: the walks took steps and the data are not
+// constant, so identical walks mean that others were not yet seen. A
+// measure that cannot be computed (NaN values, fewer than 4 walks) does not
+// make a point unreliable.
+inline ErrorBarCheck CheckErrorBar(const RunningStatistics& stats, int valueSlot,
+  int valueComponents, int weightSlot, bool spreadPossible,
+  const ErrorBarRule& rule = ErrorBarRule())
+{
+  ErrorBarCheck check;
+  double worst = std::numeric_limits<double>::quiet_NaN();
+  double skew = 0.0;
+  bool noSpread = valueComponents > 0 && stats.SampleCount() >= 2;
+  for (int c = 0; c < valueComponents; ++c)
+  {
+    const double e = stats.VarianceRelativeError(valueSlot + c);
+    if (std::isnan(worst) || e > worst)
+    {
+      worst = e;
+    }
+    const double share = stats.SkewShare(valueSlot + c);
+    skew = share > skew ? share : skew;
+    noSpread = noSpread && stats.SpreadIsRoundOff(valueSlot + c);
+  }
+  check.VarianceRelativeError = worst;
+  check.SkewShare = skew;
+  check.NoSpread = spreadPossible && noSpread;
+  if (weightSlot >= 0 && stats.SampleCount() >= 4)
+  {
+    const double mean = stats.GetMean(weightSlot);
+    const double sd = std::sqrt(stats.SampleVariance(weightSlot));
+    check.WeightVariation = mean > 0.0
+      ? sd / mean
+      : (mean == 0.0 ? std::numeric_limits<double>::infinity()
+                     : std::numeric_limits<double>::quiet_NaN());
+  }
+  check.Reliable = !check.NoSpread && !(check.SkewShare > rule.MaxSkewShare) &&
+    !(check.WeightVariation > rule.MaxWeightVariation);
+  return check;
+}
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,140 @@
+"""Error bars users can trust, through the solver's VTK API: points whose
+error bar cannot be trusted are flagged in T_VarianceReliable, counted (the
+field UnreliableErrorBars, GetLastUnreliableErrorBars) and announced once;
+a light-tailed problem gives none; target-error mode walks on at flagged
+points (Core.ErrorBarReliability.* has the held-out cases and the rule)."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkPolyData  # noqa: E402
+from gridfree_testing import (  # noqa: E402
+    MessageCatcher,
+    circle_boundary,
+    sphere_boundary,
+    z_scores,
+)
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+
+
+def probe(points):
+    data = vtkPolyData()
+    vtk_points = vtkPoints()
+    for p in points:
+        vtk_points.InsertNextPoint(*p)
+    data.SetPoints(vtk_points)
+    return data
+
+
+# 100 points on a line through the unit ball, and on a line across the disk.
+LINE = probe([(-0.85 + 1.7 * i / 99, 0.1, 0.05) for i in range(100)])
+DISK_LINE = probe([(0.3, -0.9 + 1.8 * i / 99, 0.0) for i in range(100)])
+
+
+def solver_for(boundary, points, walks, screening=None, target=0.0):
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeData(points)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetWalksPerPoint(walks)
+    solver.SetSeed(3)
+    if screening is not None:
+        solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.SCREENED_POISSON)
+        solver.SetScreeningCoefficient(screening)
+    solver.SetTargetStandardError(target)
+    return solver
+
+
+def flags(output):
+    array = output.GetPointData().GetArray("T_VarianceReliable")
+    return [int(array.GetValue(i)) for i in range(array.GetNumberOfTuples())]
+
+
+def field(output, name):
+    return output.GetFieldData().GetArray(name).GetValue(0)
+
+
+def test_strong_screening_is_flagged_and_announced():
+    # u = e^{10x} solves Δu − 100u = 0: the value rests on rare walks.
+    boundary = sphere_boundary(lambda x, y, z: math.exp(10.0 * x))
+    solver = solver_for(boundary, LINE, 256, screening=100.0)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    output = solver.GetOutput()
+    reliable = flags(output)
+    unreliable = reliable.count(0)
+    assert unreliable > 50
+    assert solver.GetLastUnreliableErrorBars() == unreliable
+    assert field(output, "UnreliableErrorBars") == unreliable
+    scores = z_scores(output, lambda x, y, z: math.exp(10.0 * x))
+    assert all(r == 0 for r, z in zip(reliable, scores) if not abs(z) < 5.0)
+    assert len(catcher.warnings) == 1, catcher.warning_text()
+    text = catcher.warnings[0]
+    assert "%d of 100 probe points have error bars that cannot be trusted" % unreliable in text
+    assert "T_VarianceReliable = 0" in text and "screening weights are very uneven" in text
+    relative = output.GetPointData().GetArray("T_VarianceRelativeError")
+    assert all(0.0 <= relative.GetValue(i) <= 1.0 for i in range(100))
+
+
+def test_jumping_data_with_few_walks_is_flagged_where_the_walks_agree():
+    # g = sign(y) on the unit circle; with 32 walks, points near the circle
+    # often see one side only (variance 0, and no error bar at all), or
+    # just one walk on the far side.
+    boundary = circle_boundary(lambda x, y, z: 1.0 if y >= 0.0 else -1.0)
+    solver = solver_for(boundary, DISK_LINE, 32)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    output = solver.GetOutput()
+    variance = output.GetPointData().GetArray("T_Variance")
+    reliable = flags(output)
+    no_spread = [i for i in range(100) if variance.GetValue(i) == 0.0]
+    assert no_spread, "the case no longer shows points whose walks all agree"
+    assert all(reliable[i] == 0 for i in no_spread)
+    exact = lambda x, y, z: 2.0 / math.pi * math.atan2(2.0 * y, 1.0 - x * x - y * y)  # noqa: E731
+    values = output.GetPointData().GetArray("T")
+    for i in range(100):
+        x, y, _ = output.GetPoint(i)
+        error = abs(values.GetValue(i) - exact(x, y, 0.0))
+        if not error <= 5.0 * math.sqrt(variance.GetValue(i)):
+            assert reliable[i] == 0, i
+    text = catcher.warning_text()
+    assert "all their walks, or all but one, gave the same value" in text
+    assert "%d of 100 probe points" % reliable.count(0) in text
+
+
+def test_light_tails_are_not_flagged_and_not_announced():
+    boundary = sphere_boundary(lambda x, y, z: math.exp(x))
+    solver = solver_for(boundary, LINE, 128, screening=1.0)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert flags(solver.GetOutput()) == [1] * 100
+    assert solver.GetLastUnreliableErrorBars() == 0
+    assert catcher.warnings == []
+    laplace = solver_for(sphere_boundary(), LINE, 128)
+    laplace.Update()
+    assert flags(laplace.GetOutput()) == [1] * 100
+
+
+def test_target_mode_walks_on_at_unreliable_points():
+    boundary = sphere_boundary(lambda x, y, z: math.exp(10.0 * x))
+    solver = solver_for(boundary, LINE, 1024, screening=100.0, target=1e300)
+    solver.Update()
+    output = solver.GetOutput()
+    walks = output.GetPointData().GetArray("WalkCount")
+    reliable = flags(output)
+    # Any variance meets the target: only an unreliable error bar walks on,
+    # to the maximum if it stays unreliable.
+    assert reliable.count(0) > 50
+    for i in range(100):
+        if not reliable[i]:
+            assert walks.GetValue(i) == 1024, i
+    # The same target without screening: every point stops at once.
+    laplace = solver_for(sphere_boundary(), LINE, 1024, target=1e300)
+    laplace.Update()
+    counts = laplace.GetOutput().GetPointData().GetArray("WalkCount")
+    assert all(counts.GetValue(i) == 128 for i in range(100))
