@@ -675,3 +675,72 @@ TEST(MeshSignedDistance, WalkOnSpheresInCsgDomain)
   const Field<3> newton = [pole](const Vec3& x) { return 1.0 / (x - pole).norm(); };
   ExpectCalibrated(SolveLaplace(csg, newton, points, 34), 200);
 }
+
+// Clean, closed and consistently oriented meshes take the sign from the
+// pseudonormal at the closest point instead of rays; both orientations work,
+// and anything else (one flipped triangle, a soup, nested shells oriented
+// alike) keeps the rays. Either way Value's sign is the rays' answer.
+TEST(MeshSignedDistance, CleanMeshesTakeTheirSignFromPseudonormals)
+{
+  auto flipped = [](SimplexMesh<3> mesh, bool all) {
+    for (std::size_t i = 0; i < mesh.Simplices.size(); ++i)
+    {
+      if (all || i == 17)
+      {
+        std::swap(mesh.Simplices[i][1], mesh.Simplices[i][2]);
+      }
+    }
+    return mesh;
+  };
+  // A shell inside a shell, both with outward normals: for parity the gap
+  // between them is inside and the inner ball outside, which the inner
+  // shell's pseudonormals contradict.
+  SimplexMesh<3> nested = MakeIcosphere(3);
+  const SimplexMesh<3> inner = MakeIcosphere(2, 0.5);
+  const auto offset = static_cast<std::int64_t>(nested.Vertices.size());
+  nested.Vertices.insert(nested.Vertices.end(), inner.Vertices.begin(), inner.Vertices.end());
+  for (auto t : inner.Simplices)
+  {
+    nested.Simplices.push_back({ t[0] + offset, t[1] + offset, t[2] + offset });
+  }
+  struct Case
+  {
+    const char* Name;
+    SimplexMesh<3> Mesh;
+    bool Clean;
+  };
+  const Case cases[] = { { "icosphere", MakeIcosphere(4), true },
+    { "icosphere, normals in", flipped(MakeIcosphere(4), true), true },
+    { "one triangle flipped", flipped(MakeIcosphere(4), false), false },
+    { "soup", MakeSoupOf<3>(MakeIcosphere(3), false), false },
+    { "nested shells oriented alike", nested, false } };
+  const auto points = UniformPoints<3>(4000, 1.3, 21);
+  for (const Case& c : cases)
+  {
+    const auto phi = MakeFunction<3>(c.Mesh);
+    EXPECT_EQ(phi->SignFromPseudonormals(), c.Clean) << c.Name;
+    int disagree = 0;
+    for (const Vec3& x : points)
+    {
+      const double v = phi->Value(x);
+      disagree += (v < 0.0) != phi->Inside(x) ? 1 : 0;
+    }
+    EXPECT_EQ(disagree, 0) << c.Name;
+  }
+  // A shell with a cavity oriented as a solid's (inner normals into the
+  // cavity) is clean: both agree, and the cavity is outside.
+  SimplexMesh<3> cavity = MakeIcosphere(3);
+  const SimplexMesh<3> hole = flipped(MakeIcosphere(2, 0.5), true);
+  const auto at = static_cast<std::int64_t>(cavity.Vertices.size());
+  cavity.Vertices.insert(cavity.Vertices.end(), hole.Vertices.begin(), hole.Vertices.end());
+  for (auto t : hole.Simplices)
+  {
+    cavity.Simplices.push_back({ t[0] + at, t[1] + at, t[2] + at });
+  }
+  const auto shell = MakeFunction<3>(cavity);
+  EXPECT_TRUE(shell->SignFromPseudonormals());
+  EXPECT_GT(shell->Value(Vec3(0.0, 0.0, 0.0)), 0.0);
+  EXPECT_LT(shell->Value(Vec3(0.75, 0.0, 0.0)), 0.0);
+  // 2D: the star polygon is clean.
+  EXPECT_TRUE(MakeFunction<2>(MakeStar())->SignFromPseudonormals());
+}

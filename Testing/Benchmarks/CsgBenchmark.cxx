@@ -1,0 +1,164 @@
+// Walks per second on a CSG domain against one mesh of the same domain, one
+// thread, in one run (issue "CSG at mesh speed"). Two CSG trees whose domain
+// is exactly the big sphere's, so the walks solve the same problem:
+//   union(big sphere, small sphere inside it) and
+//   intersection(big sphere, bigger sphere around it);
+// each operand a triangle mesh (MeshSignedDistance), with the sign from
+// pseudonormals (clean meshes) or from rays (the same meshes as soups).
+// The boundary values are the harmonic x² − y², so the walks' RMSE against
+// it is printed beside the rate.
+//
+//   GridFreeCsgBenchmark [walks per point] [points]
+#include "TestMeshes.h"
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/implicit/CsgFunctions.h>
+#include <gridfree/implicit/ImplicitBoundary.h>
+#include <gridfree/implicit/MeshSignedDistance.h>
+#include <gridfree/statistics/RunningStatistics.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+
+namespace
+{
+double Saddle(const Vec3& x)
+{
+  return x[0] * x[0] - x[1] * x[1];
+}
+
+class SaddleValues final : public BoundaryValueFunction<3>
+{
+public:
+  int Components() const override { return 1; }
+  void Evaluate(const ClosestPointResult<3>& hit, double* out) const override
+  {
+    out[0] = Saddle(hit.point);
+  }
+};
+
+SimplexMesh<3> Soup(const SimplexMesh<3>& mesh)
+{
+  SimplexMesh<3> soup;
+  for (const auto& t : mesh.Simplices)
+  {
+    const auto base = static_cast<std::int64_t>(soup.Vertices.size());
+    for (int k = 0; k < 3; ++k)
+    {
+      soup.Vertices.push_back(mesh.Vertices[static_cast<std::size_t>(t[k])]);
+    }
+    soup.Simplices.push_back({ base, base + 1, base + 2 });
+  }
+  return soup;
+}
+
+std::shared_ptr<MeshSignedDistance<3>> Operand(const SimplexMesh<3>& mesh, bool soup)
+{
+  const SimplexMesh<3> m = soup ? Soup(mesh) : mesh;
+  return std::make_shared<MeshSignedDistance<3>>(m.Vertices, m.Simplices);
+}
+
+struct Row
+{
+  std::string Name;
+  double WalksPerSecond = 0.0;
+  double StepsPerWalk = 0.0;
+  double Rmse = 0.0;
+};
+
+Row Run(const std::string& name, const Boundary<3>& boundary, const std::vector<Vec3>& points,
+  int walks)
+{
+  WalkSettings settings;
+  settings.Epsilon = 1e-4;
+  WalkOnSpheresEstimator<3> estimator(boundary, settings);
+  const auto start = std::chrono::steady_clock::now();
+  double squared = 0.0;
+  WalkCounters total;
+  for (const Vec3& p : points)
+  {
+    const double xyz[3] = { p[0], p[1], p[2] };
+    RunningStatistics stats(1);
+    WalkCounters counters;
+    estimator.EstimatePoint(xyz, 7, 0, walks, stats, counters);
+    const double e = stats.GetMean(0) - Saddle(p);
+    squared += e * e;
+    total.Add(counters);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Row row;
+  row.Name = name;
+  row.WalksPerSecond = static_cast<double>(total.Walks) / seconds;
+  row.StepsPerWalk = total.MeanSteps();
+  row.Rmse = std::sqrt(squared / static_cast<double>(points.size()));
+  return row;
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  const int walks = argc > 1 ? std::max(1, std::atoi(argv[1])) : 256;
+  const int count = argc > 2 ? std::max(1, std::atoi(argv[2])) : 200;
+  const SimplexMesh<3> big = MakeIcosphere(5);          // 20,480 triangles, radius 1
+  const SimplexMesh<3> small = MakeIcosphere(3, 0.3);   // inside it
+  const SimplexMesh<3> bigger = MakeIcosphere(3, 1.5);  // around it
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.9, 0.9);
+  std::vector<Vec3> points;
+  while (static_cast<int>(points.size()) < count)
+  {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    if (p.norm() < 0.9)
+    {
+      points.push_back(p);
+    }
+  }
+
+  std::vector<Row> rows;
+  {
+    Boundary<3> mesh;
+    std::vector<double> values;
+    for (const Vec3& v : big.Vertices)
+    {
+      values.push_back(Saddle(v));
+    }
+    mesh.Set(big.Vertices, big.Simplices, ValueAssociation::Points, 1, values);
+    rows.push_back(Run("one mesh (the big sphere)", mesh, points, walks));
+  }
+  const auto values = std::make_shared<SaddleValues>();
+  for (bool soup : { false, true })
+  {
+    const std::string sign = soup ? "rays (soups)" : "pseudonormals";
+    const auto a = Operand(big, soup);
+    std::printf("operands take their sign from %s: %s\n", sign.c_str(),
+      a->SignFromPseudonormals() ? "pseudonormals" : "rays");
+    for (const auto& [op, other, label] :
+      { std::make_tuple(CsgOperation::Union, Operand(small, soup), "union with a sphere inside"),
+        std::make_tuple(
+          CsgOperation::Intersection, Operand(bigger, soup), "intersection with a sphere around") })
+    {
+      auto csg = std::make_shared<CsgDistance<3>>(op, a, other);
+      Boundary<3> b;
+      b.SetGeometry(std::make_shared<ImplicitBoundaryGeometry<3>>(csg), values);
+      rows.push_back(Run(std::string("CSG ") + label + ", sign by " + sign, b, points, walks));
+    }
+  }
+  std::printf("\n%d points in the unit ball, %d walks each, one thread, harmonic data x^2 - y^2\n\n",
+    count, walks);
+  std::printf("| domain | walks/s | steps/walk | RMSE | mesh / this |\n|---|---:|---:|---:|---:|\n");
+  for (const Row& r : rows)
+  {
+    std::printf("| %s | %.0f | %.1f | %.2e | %.2f |\n", r.Name.c_str(), r.WalksPerSecond,
+      r.StepsPerWalk, r.Rmse, rows[0].WalksPerSecond / r.WalksPerSecond);
+  }
+  return 0;
+}
