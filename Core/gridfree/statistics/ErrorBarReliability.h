@@ -22,7 +22,7 @@
 //     and the screening (√c times the distance to the boundary), not of the
 //     walk count: at 4,096 walks such points still showed |z| up to 175, so
 //     more walks do not lift the flag. Light screening (c = 4 on the unit
-//     sphere) stays below 0.3; every wrong point of the strongly screened
+//     sphere) stays below 0.34; every wrong point of the strongly screened
 //     cases (c = 100, 400, Yukawa data) is above 0.7.
 //  2. No spread, or the spread of one walk: every walk gave the same value
 //     although the walks took steps and the data are not constant (a walk
@@ -36,10 +36,12 @@
 //     normal approximation's rule of thumb (N > 25·G1²) is far stricter, so
 //     this flags only a spread made by a single walk. More walks lift it.
 //
-// A point is unreliable when any holds. What it does not catch: a
-// heavy tail of an unscreened problem that no walk has reached while the
-// walks seen still differ (a narrow peak in g reached by one walk in
-// thousands); more walks, or the target-error mode, are the remedy there.
+// A point is unreliable when any holds. What it does not catch: a tail
+// that no walk of the point has reached yet while the walks seen still
+// differ in the ordinary way (a narrow peak in g reached by one walk in
+// thousands; rarely, a near-boundary point that saw one far walk where a
+// dozen were due). Nothing in such a point's walks tells it apart; more
+// walks, or two seeds compared, are the remedy there.
 #ifndef GRIDFREE_STATISTICS_ERROR_BAR_RELIABILITY_H
 #define GRIDFREE_STATISTICS_ERROR_BAR_RELIABILITY_H
 
