@@ -196,7 +196,10 @@ public:
   {
     if (this->Shape)
     {
-      return this->Shape->Distance(x);
+      // Exact unless the geometry caches bounds (CSG of meshes).
+      return this->StepRelaxation > 0.0 && this->UseBoundGrid
+        ? this->Shape->StepRadius(x, this->StepRelaxation, epsilon)
+        : this->Shape->Distance(x);
     }
     StepHint none;
     StepHint& h = hint ? *hint : none;
@@ -231,8 +234,10 @@ public:
   // Whether steps far from a mesh may take their radius from distance
   // bounds cached on a grid (default on), when those bounds guarantee the
   // same 1/(1 + StepRelaxation) of the distance without a search. The grid
-  // is filled when the mesh is set (DistanceBoundGrid.h); other geometries,
-  // whose distances are cheap already, have none.
+  // is filled when the mesh is set (DistanceBoundGrid.h). Geometries whose
+  // distance searches a hierarchy keep their own (MeshSignedDistance, as a
+  // CSG operand) and relax their steps only when this is on; analytic ones
+  // always take exact radii.
   void SetBoundGrid(bool use) { this->UseBoundGrid = use; }
   bool GetBoundGrid() const { return this->UseBoundGrid; }
   const DistanceBoundGrid<DIM>& StepBoundGrid() const { return this->BoundGrid; }

@@ -27,6 +27,16 @@ public:
   // Conservative distance to the boundary (never more than the truth).
   virtual double Distance(const Vec<DIM>& x) const = 0;
 
+  // A walk step's radius: at most Distance(x) and at least
+  // Distance(x) / (1 + relaxation), equal to it whenever it is below
+  // epsilon (so that walks stop where they would with Distance). Geometries
+  // whose distance searches a hierarchy (CSG of meshes) answer from cached
+  // bounds; the default is Distance(x).
+  virtual double StepRadius(const Vec<DIM>& x, double /*relaxation*/, double /*epsilon*/) const
+  {
+    return this->Distance(x);
+  }
+
   // A boundary point near x, with `distance` = |x − point| and the part or
   // primitive it lies on (see ClosestPointResult).
   virtual ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const = 0;

@@ -35,6 +35,18 @@
 //
 // Cost: Value() is called once per walk step, so it makes exactly one virtual
 // call per child, allocates nothing, and branches only on the operation.
+//
+// Trees of meshes step at mesh speed. A mesh operand's Value() searches its
+// hierarchy and takes a sign, several times a mesh walk's relaxed, cached
+// step. But at most points one operand alone decides the value: near the
+// big sphere of union(big sphere, small sphere inside it) the small one is
+// far away. Children that cache bounds (CachesBounds()) give a cheap
+// interval for their value (Range()); when the intervals show that one
+// child decides (union: a ≤ b everywhere in them, by at least k for a
+// blend, where h = 1 and smin(a, b) = a exactly), φ(x) equals that child's
+// normalized value, so any step bound of that child is one of φ
+// (StepBound()), and the other child is never evaluated. Otherwise both are
+// evaluated exactly, as before.
 #ifndef GRIDFREE_IMPLICIT_CSG_FUNCTIONS_H
 #define GRIDFREE_IMPLICIT_CSG_FUNCTIONS_H
 
@@ -45,6 +57,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -94,6 +107,7 @@ public:
     this->ScaleB = (op == CsgOperation::Difference ? -1.0 : 1.0) / lb;
     this->PartsA = this->ChildA->NumberOfParts();
     this->PartsB = this->ChildB->NumberOfParts();
+    this->Cached = this->ChildA->CachesBounds() || this->ChildB->CachesBounds();
   }
 
   double Value(const Vec<DIM>& x) const override
@@ -137,6 +151,136 @@ public:
   double Lipschitz() const override { return 1.0; }
 
   std::int64_t NumberOfParts() const override { return this->PartsA + this->PartsB; }
+
+  bool CachesBounds() const override { return this->Cached; }
+
+  // The children's ranges combined: min and max are monotone, the smooth
+  // minimum lies in [min − k/4, min] and the smooth maximum in
+  // [max, max + k/4].
+  ImplicitRange Range(const Vec<DIM>& x) const override
+  {
+    if (!this->Cached)
+    {
+      const double v = this->Value(x);
+      return { v, v };
+    }
+    const ImplicitRange a = this->RangeA(x);
+    const ImplicitRange b = this->RangeB(x);
+    const double blend = 0.25 * this->BlendRadius;
+    if (this->Operation == CsgOperation::Union)
+    {
+      return { std::min(a.Low, b.Low) - blend, std::min(a.High, b.High) };
+    }
+    return { std::max(a.Low, b.Low), std::max(a.High, b.High) + blend };
+  }
+
+  // A hard operation's zero set near x, where one child decides φ(x) (by
+  // the ranges), is that child's zero set where the other child keeps the
+  // point in (union: ψ_b ≥ 0 there; intersection: ψ_b ≤ 0). The child's
+  // projection p is then on the tree's zero set at |φ(x)| from x, and so a
+  // nearest point (none is nearer than |φ(x)|, φ being 1-Lipschitz).
+  bool Project(const Vec<DIM>& x, Vec<DIM>& point, std::int64_t& part) const override
+  {
+    if (!this->Cached || this->BlendRadius > 0.0)
+    {
+      return false;
+    }
+    const bool union_ = this->Operation == CsgOperation::Union;
+    ImplicitRange a = this->RangeA(x);
+    ImplicitRange b = this->RangeB(x);
+    const bool decided = a.High <= b.Low || b.High <= a.Low;
+    const bool bothNegative = a.High < 0.0 && b.High < 0.0;
+    const bool bothPositive = a.Low > 0.0 && b.Low > 0.0;
+    if (!decided && (union_ ? bothPositive : bothNegative))
+    {
+      // x on one side of both surfaces, where the tree's value is the one
+      // nearer 0 (union of positives, intersection of negatives): the
+      // nearer surface decides, and the unsigned distances (no sign
+      // needed) tell which. The other child keeps its sign within its
+      // distance of x, so a projection nearer than that stays on the tree's
+      // zero set.
+      const double inf = std::numeric_limits<double>::infinity();
+      const double da = a.Low == a.High ? std::abs(a.Low) : this->ChildA->StepBound(x, 0.0, inf);
+      const double db = b.Low == b.High ? std::abs(b.Low) : this->ChildB->StepBound(x, 0.0, inf);
+      if (da <= db && this->ChildA->Project(x, point, part))
+      {
+        return (x - point).norm() < db ||
+          this->KeepsIn(this->RangeB(point), *this->ChildB, point, this->ScaleB);
+      }
+      if (db < da && this->ChildB->Project(x, point, part))
+      {
+        part += this->PartsA;
+        return (x - point).norm() < da ||
+          this->KeepsIn(this->RangeA(point), *this->ChildA, point, this->InverseLipschitzA);
+      }
+      return false;
+    }
+    if (!decided)
+    {
+      // The ranges cannot tell (near both operands): their exact values can.
+      const double va = this->ChildA->Value(x) * this->InverseLipschitzA;
+      const double vb = this->ChildB->Value(x) * this->ScaleB;
+      a = { va, va };
+      b = { vb, vb };
+    }
+    const bool aDecides = union_ ? a.High <= b.Low : b.High <= a.Low;
+    const bool bDecides = !aDecides && (union_ ? b.High <= a.Low : a.High <= b.Low);
+    if (aDecides && this->ChildA->Project(x, point, part))
+    {
+      return this->KeepsIn(this->RangeB(point), *this->ChildB, point, this->ScaleB);
+    }
+    if (bDecides && this->ChildB->Project(x, point, part))
+    {
+      part += this->PartsA;
+      return this->KeepsIn(this->RangeA(point), *this->ChildA, point, this->InverseLipschitzA);
+    }
+    return false;
+  }
+
+  // The step bound of the child that decides φ(x), when the ranges show
+  // one. Otherwise, for a hard operation on two values whose signs the
+  // ranges tell alike (near both surfaces, on one side of both), |φ| is the
+  // larger or the smaller of |ψa| and |ψb| (union of negatives or
+  // intersection of positives: the larger), and so is the step from the two
+  // children's step bounds: each lies in [|ψ| / (1 + relaxation), |ψ|], and
+  // so do their maximum and minimum of the |ψ|'s; below epsilon the one
+  // returned is exact (a bound below epsilon is exact, and the minimum is
+  // below epsilon only if the smaller |ψ| is). Else |φ(x)|.
+  double StepBound(const Vec<DIM>& x, double relaxation, double epsilon) const override
+  {
+    if (!this->Cached)
+    {
+      return std::abs(this->Value(x));
+    }
+    const ImplicitRange a = this->RangeA(x);
+    const ImplicitRange b = this->RangeB(x);
+    const double k = this->BlendRadius;
+    const bool aBelow = a.High + k <= b.Low;
+    const bool bBelow = b.High + k <= a.Low;
+    const bool union_ = this->Operation == CsgOperation::Union;
+    // A child's step bound is in units of |φ_a| / L_a = |ψ_a| already.
+    auto stepA = [&]()
+    { return a.Low == a.High ? std::abs(a.Low) : this->ChildA->StepBound(x, relaxation, epsilon); };
+    auto stepB = [&]()
+    { return b.Low == b.High ? std::abs(b.Low) : this->ChildB->StepBound(x, relaxation, epsilon); };
+    // Union takes the lower child, intersection (and difference) the higher.
+    if (union_ ? aBelow : bBelow)
+    {
+      return stepA();
+    }
+    if (union_ ? bBelow : aBelow)
+    {
+      return stepB();
+    }
+    const bool bothNegative = a.High < 0.0 && b.High < 0.0;
+    const bool bothPositive = a.Low > 0.0 && b.Low > 0.0;
+    if (k == 0.0 && (bothNegative || bothPositive))
+    {
+      const bool larger = union_ == bothNegative;
+      return larger ? std::max(stepA(), stepB()) : std::min(stepA(), stepB());
+    }
+    return std::abs(this->Value(x));
+  }
 
   // A box around the zero set, assuming (as for any solid) that each bounded
   // child is negative only inside its own box:
@@ -200,6 +344,40 @@ private:
     double WeightA;
   };
 
+  // The children's ranges, normalized as in Value() (b negated for a
+  // difference).
+  ImplicitRange RangeA(const Vec<DIM>& x) const
+  {
+    const ImplicitRange r = this->ChildA->Range(x);
+    return { r.Low * this->InverseLipschitzA, r.High * this->InverseLipschitzA };
+  }
+  ImplicitRange RangeB(const Vec<DIM>& x) const
+  {
+    const ImplicitRange r = this->ChildB->Range(x);
+    const double low = r.Low * this->ScaleB;
+    const double high = r.High * this->ScaleB;
+    return this->ScaleB > 0.0 ? ImplicitRange{ low, high } : ImplicitRange{ high, low };
+  }
+
+  // Whether the other child keeps a point of the deciding child's zero set
+  // on the tree's zero set (union: ψ ≥ 0, intersection: ψ ≤ 0), from its
+  // range or else its exact value.
+  bool KeepsIn(const ImplicitRange& range, const SignedDistanceFunction<DIM>& other,
+    const Vec<DIM>& point, double scale) const
+  {
+    const bool union_ = this->Operation == CsgOperation::Union;
+    if (union_ ? range.Low >= 0.0 : range.High <= 0.0)
+    {
+      return true;
+    }
+    if (union_ ? range.High < 0.0 : range.Low > 0.0)
+    {
+      return false;
+    }
+    const double v = other.Value(point) * scale;
+    return union_ ? v >= 0.0 : v <= 0.0;
+  }
+
   // The smooth minimum above; h is the weight of a.
   static Blend SmoothMin(double a, double b, double k)
   {
@@ -236,6 +414,8 @@ private:
   double ScaleB = 1.0;
   std::int64_t PartsA = 1;
   std::int64_t PartsB = 1;
+  // Whether a child caches bounds, so that Range() and StepBound() pay.
+  bool Cached = false;
 };
 } // namespace gridfree
 

@@ -36,6 +36,7 @@ public:
     {
       throw std::invalid_argument("implicit boundary: the Lipschitz bound must be positive and finite");
     }
+    this->Scale = this->L / this->Phi->Lipschitz();
   }
 
   double Distance(const Vec<DIM>& x) const override
@@ -45,7 +46,21 @@ public:
     return std::isnan(d) ? 0.0 : d;
   }
 
-  // Projects x onto the zero set by Newton steps along ∇φ, p ← p − φ ∇φ/|∇φ|²
+  // The function's own step bound, |φ|/L_φ relaxed, in units of this L.
+  double StepRadius(const Vec<DIM>& x, double relaxation, double epsilon) const override
+  {
+    if (!this->Phi->CachesBounds())
+    {
+      return this->Distance(x);
+    }
+    // StepBound is exact below its epsilon; scaled, below ours.
+    const double r = this->Phi->StepBound(x, relaxation, epsilon * this->Scale) / this->Scale;
+    return std::isnan(r) ? 0.0 : r;
+  }
+
+  // The function's own projection when it has one (meshes, and CSG trees
+  // of them where one operand decides). Otherwise it projects x onto the
+  // zero set by Newton steps along ∇φ, p ← p − φ ∇φ/|∇φ|²
   // (quadratic convergence near a regular surface). Walks call this within ε
   // of the boundary, where one step is already accurate to O(ε²); a few more
   // are allowed for points farther away (derivative estimators ask at the
@@ -53,6 +68,11 @@ public:
   ClosestPointResult<DIM> ClosestPoint(const Vec<DIM>& x) const override
   {
     ClosestPointResult<DIM> hit;
+    if (this->Phi->Project(x, hit.point, hit.primitive))
+    {
+      hit.distance = (x - hit.point).norm();
+      return hit;
+    }
     ImplicitSample s = this->Phi->Sample(x);
     Vec<DIM> p = x;
     for (int iteration = 0; iteration < 8 && s.value != 0.0; ++iteration)
@@ -94,6 +114,9 @@ public:
 private:
   std::shared_ptr<const SignedDistanceFunction<DIM>> Phi;
   double L = 1.0;
+  // L / L_φ: a step bound of φ (in units of |φ|/L_φ) divided by it is one in
+  // units of |φ|/L.
+  double Scale = 1.0;
 };
 } // namespace gridfree
 

@@ -68,17 +68,29 @@
 // rays' answer wherever both are right; it differs only where the rays would
 // be wrong (a ray through a crack or grazing an edge).
 //
+// Cached bounds, for CSG at mesh speed. At construction the signed value is
+// stored on a grid over the mesh box (about one vertex per two primitives,
+// as a mesh boundary's DistanceBoundGrid, from 16,384 to 300,000), so that
+// Range() bounds φ(x) from one cell's corners, sign included wherever x
+// lies within a corner's empty ball, and StepBound() gives a walk step as a
+// mesh boundary does: the grid, else a relaxed hierarchy query, else the
+// exact distance (no sign needed: |φ| is the distance). A CSG tree uses
+// them to skip operands that cannot decide its value (CsgFunctions.h).
+// Filling the grid costs one Value() per vertex, on all threads: about
+// 0.15 s (clean) to 0.25 s (soup) on one thread for 20,480 triangles.
+//
 // A walk on a mesh alone should use the mesh directly (Boundary::SetMesh,
 // which never needs a sign and may relax its steps); this class is for CSG,
 // where the sign decides which operand is active.
 //
-// Everything is const after construction and nothing is cached: one object
-// serves any number of threads.
+// Everything is const after construction (the grid is filled there) and
+// queries keep no state: one object serves any number of threads.
 #ifndef GRIDFREE_IMPLICIT_MESH_SIGNED_DISTANCE_H
 #define GRIDFREE_IMPLICIT_MESH_SIGNED_DISTANCE_H
 
 #include <gridfree/geometry/BoundingBox.h>
 #include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/DistanceBoundGrid.h>
 #include <gridfree/geometry/ClosestPointResult.h>
 #include <gridfree/geometry/SidePseudonormals.h>
 #include <gridfree/implicit/SignedDistance.h>
@@ -172,6 +184,63 @@ public:
     return this->Inside(x) ? -d : d;
   }
 
+  bool CachesBounds() const override { return true; }
+
+  // φ(x) bounded from the grid; beyond it (outside the mesh box, where
+  // every point is outside), at least the distance to the box.
+  ImplicitRange Range(const Vec<DIM>& x) const override
+  {
+    const auto r = this->Grid.Range(x);
+    if (std::isinf(r.Low) && std::isinf(r.High) && !this->Box.Contains(x))
+    {
+      const double d = std::sqrt(this->Box.SquaredDistance(x));
+      if (d >= 0.0)
+      {
+        return { d, std::numeric_limits<double>::infinity() };
+      }
+    }
+    return { r.Low, r.High };
+  }
+
+  // |φ| is the unsigned distance, so a step needs no sign: the grid's bound
+  // when it is within 1 + relaxation of the distance, else a relaxed search
+  // (relaxed only farther than about one primitive size, as on a mesh
+  // boundary), else the exact distance; exact below epsilon.
+  double StepBound(const Vec<DIM>& x, double relaxation, double epsilon) const override
+  {
+    if (relaxation > 0.0)
+    {
+      const double cached = this->Grid.StepBound(x, relaxation);
+      if (cached >= epsilon)
+      {
+        return cached;
+      }
+      bool exact = false;
+      const double bound = this->Tree->DistanceLowerBound(x, relaxation, this->RelaxAbove, exact);
+      if (exact || bound >= epsilon)
+      {
+        return bound;
+      }
+    }
+    return this->Tree->Distance(x);
+  }
+
+  // The mesh's closest point is the nearest point of the zero set.
+  bool Project(const Vec<DIM>& x, Vec<DIM>& point, std::int64_t& part) const override
+  {
+    const ClosestPointResult<DIM> hit = this->Tree->ClosestPoint(x);
+    if (!std::isfinite(hit.distance))
+    {
+      return false;
+    }
+    point = hit.point;
+    part = 0;
+    return true;
+  }
+
+  // The grid of cached signed values (for tests and diagnostics).
+  const DistanceBoundGrid<DIM>& BoundGrid() const { return this->Grid; }
+
   // Whether the sign comes from pseudonormals (a clean mesh) rather than
   // rays.
   bool SignFromPseudonormals() const { return this->CleanSides; }
@@ -189,7 +258,10 @@ public:
     const double d = away.norm();
     if (d > this->OnMesh && std::isfinite(d))
     {
-      return this->Inside(x) ? Vec<DIM>(-away / d) : Vec<DIM>(away / d);
+      // The side as Value() takes it: pseudonormals on a clean mesh.
+      const int side = this->CleanSides ? this->PseudonormalSide(x, hit) : 0;
+      const bool inside = side != 0 ? side < 0 : this->Inside(x);
+      return inside ? Vec<DIM>(-away / d) : Vec<DIM>(away / d);
     }
     if (hit.primitive >= 0)
     {
@@ -334,6 +406,41 @@ private:
       this->Pseudonormals.Build(this->Vertices, this->Primitives);
       this->CleanSides = this->PseudonormalsAgreeWithRays();
     }
+    this->BuildBoundGrid();
+  }
+
+  // Relaxed steps farther than the mean primitive box diagonal; the grid of
+  // signed values (exact, so the grid's upper bounds are tight).
+  void BuildBoundGrid()
+  {
+    double sum = 0.0;
+    std::size_t counted = 0;
+    for (const Primitive& p : this->Primitives)
+    {
+      BoundingBox<DIM> box;
+      for (int k = 0; k < DIM; ++k)
+      {
+        box.Expand(this->Vertices[static_cast<std::size_t>(p[k])]);
+      }
+      const double diagonal = box.Diagonal();
+      if (std::isfinite(diagonal))
+      {
+        sum += diagonal;
+        ++counted;
+      }
+    }
+    this->RelaxAbove = counted ? sum / static_cast<double>(counted) : 0.0;
+    struct NoHint
+    {
+    };
+    // At least about 25 per side: a small operand still tells its side
+    // close to its surface, where another operand's walks may pass (two
+    // surfaces 0.05 of the size apart: 16 per side tell too few).
+    const std::size_t vertices =
+      std::min<std::size_t>(std::max<std::size_t>(this->Primitives.size() / 2, 16384), 300000);
+    this->Grid.template Build<NoHint>(
+      this->Box, vertices, 0.0,
+      [this](const Vec<DIM>& v, NoHint&) { return this->Value(v); }, true);
   }
 
   // The side of x from the pseudonormal at its closest point: +1 outside,
@@ -538,6 +645,8 @@ private:
   bool CleanSides = false;
   double Outward = 1.0;
   SidePseudonormals<DIM> Pseudonormals;
+  double RelaxAbove = 0.0;
+  DistanceBoundGrid<DIM> Grid;
 };
 } // namespace gridfree
 

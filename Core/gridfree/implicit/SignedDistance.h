@@ -28,6 +28,13 @@ struct ImplicitSample
   std::int64_t part = 0;
 };
 
+// An interval that holds φ(x): Low ≤ φ(x) ≤ High.
+struct ImplicitRange
+{
+  double Low = 0.0;
+  double High = 0.0;
+};
+
 template <int DIM>
 class SignedDistanceFunction
 {
@@ -64,6 +71,40 @@ public:
 
   // Parts that Sample() can report (CSG leaves); 1 for a single function.
   virtual std::int64_t NumberOfParts() const { return 1; }
+
+  // Cheap answers for functions whose Value() searches a hierarchy (meshes,
+  // and CSG trees holding them), which keep bounds cached on a grid
+  // (DistanceBoundGrid.h). A CSG node asks its children for Range() to see
+  // whether one child alone decides its value at x, and then only that
+  // child for StepBound() (CsgFunctions.h). Both are pure functions of x and
+  // the geometry, so walks stay reproducible.
+  //
+  // Whether Range() and StepBound() are cheaper than Value() here.
+  virtual bool CachesBounds() const { return false; }
+
+  // An interval holding φ(x). The default is exact (one Value()); cached
+  // ranges may be wide, even (−∞, ∞), but must hold φ(x).
+  virtual ImplicitRange Range(const Vec<DIM>& x) const
+  {
+    const double v = this->Value(x);
+    return { v, v };
+  }
+
+  // A nearest point of the zero set to x, when the function knows one
+  // exactly and cheaply (a mesh's closest point), with the part it lies on;
+  // false when it does not, and callers take Newton steps instead.
+  virtual bool Project(const Vec<DIM>& /*x*/, Vec<DIM>& /*point*/, std::int64_t& /*part*/) const
+  {
+    return false;
+  }
+
+  // A step radius r ≤ |φ(x)| / L that is at least 1 / (1 + relaxation) of
+  // it, and equal to it whenever r < epsilon (so that walks stop exactly
+  // where they would with |φ(x)| / L). The default is exact.
+  virtual double StepBound(const Vec<DIM>& x, double /*relaxation*/, double /*epsilon*/) const
+  {
+    return this->DistanceBound(x);
+  }
 
   // The conservative step radius |φ(x)| / L (never more than the distance).
   double DistanceBound(const Vec<DIM>& x) const { return std::abs(this->Value(x)) / this->Lipschitz(); }
