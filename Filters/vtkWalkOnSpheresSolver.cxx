@@ -115,7 +115,8 @@ bool IsChoice(vtkObject* self, const char* property, int value, int current,
   }
 GRIDFREE_CHOICE_SETTER(Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic")
 GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
-GRIDFREE_CHOICE_SETTER(SourceSampling, "uniform", "Green's function", "multiple importance")
+GRIDFREE_CHOICE_SETTER(
+  SourceSampling, "uniform", "Green's function", "multiple importance", "source density")
 GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
 GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
 #undef GRIDFREE_CHOICE_SETTER

@@ -197,6 +197,7 @@ public:
     }
     this->ConstantData =
       this->Shape->ConstantValues() && (!this->Sources || this->Sources->Empty());
+    this->BuildSourceDensity();
   }
 
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
@@ -496,7 +497,39 @@ private:
 
   ConcentratedSourceSet<DIM> Concentrated() const
   {
-    return this->Sources ? this->Sources->Concentrated() : ConcentratedSourceSet<DIM>();
+    ConcentratedSourceSet<DIM> set =
+      this->Sources ? this->Sources->Concentrated() : ConcentratedSourceSet<DIM>();
+    set.VolumeDensity = this->Density.get();
+    return set;
+  }
+
+  // Source-density sampling's map of |f| (SourceDensityMap.h), over the
+  // source's support within the boundary's box (walks inside the domain
+  // never leave it), or over the support alone when they do not meet
+  // (exterior problems), or the boundary's box for an unbounded support.
+  void BuildSourceDensity()
+  {
+    if (this->Walk.Sampling != SourceSampling::SourceDensity || !this->Sources ||
+      !this->Sources->MakeVolume || !WalkOnSpheresEstimator<DIM>::UsesSources(this->Walk.Problem))
+    {
+      return;
+    }
+    auto volume = this->MakeVolume();
+    if (!volume)
+    {
+      return;
+    }
+    const BoundingBox<DIM> domain(this->Shape->BoundsMin(), this->Shape->BoundsMax());
+    BoundingBox<DIM> box = domain;
+    Vec<DIM> lo, hi;
+    if (volume->SupportBounds(lo, hi))
+    {
+      const BoundingBox<DIM> inside(lo.cwiseMax(domain.Min), hi.cwiseMin(domain.Max));
+      box = inside.IsEmpty() ? BoundingBox<DIM>(lo, hi) : inside;
+    }
+    auto map = std::make_shared<SourceDensityMap<DIM>>();
+    map->Build(*volume, this->Shape->Components(), box);
+    this->Density = std::move(map);
   }
 
   // Runs walks number `from` to `to` - 1 of one point into stats/counters in
@@ -742,6 +775,7 @@ private:
   std::shared_ptr<const Boundary<DIM>> Shape;
   WalkSettings Walk;
   std::shared_ptr<const SourceSet<DIM>> Sources;
+  std::shared_ptr<const SourceDensityMap<DIM>> Density;
   bool ConstantData = false; // constant boundary values and no sources
 };
 } // namespace gridfree

@@ -16,6 +16,7 @@
 
 #include <gridfree/sampling/BallSampling.h>
 #include <gridfree/sources/ConcentratedSources.h>
+#include <gridfree/sources/SourceDensityMap.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/math/Vector.h>
 
@@ -28,9 +29,10 @@ namespace gridfree
 // How the volume term ∫_B f G is sampled.
 enum class SourceSampling
 {
-  Uniform,           // y ~ U(B): weight |B| G(x, y)
-  GreensFunction,    // y ~ G / ∫G: weight ∫G (App. B samplers)
-  MultipleImportance // one sample of each, balance heuristic (Veach & Guibas 1995)
+  Uniform,            // y ~ U(B): weight |B| G(x, y)
+  GreensFunction,     // y ~ G / ∫G: weight ∫G (App. B samplers)
+  MultipleImportance, // one sample of each, balance heuristic (Veach & Guibas 1995)
+  SourceDensity       // y ~ G / ∫G and y ~ |f| (SourceDensityMap.h), balance heuristic
 };
 
 // A volume source f(y) with a fixed number of components. Evaluate may use
@@ -87,6 +89,10 @@ struct ConcentratedSourceSet
 {
   const PointSources<DIM>* Points = nullptr;
   const CurveSources<DIM>* Curves = nullptr;
+  // Not a concentrated source: the volume source's density map that
+  // SourceSampling::SourceDensity draws from (built once by the problem,
+  // shared read-only); null or empty makes it Green's-function sampling.
+  const SourceDensityMap<DIM>* VolumeDensity = nullptr;
 
   bool Empty() const
   {
@@ -148,6 +154,35 @@ public:
           const Vec<DIM> dg = green.SampleOffset(rng);
           this->AddVolumeSample(
             x + dg, 1.0 / (1.0 / (volume * green.Value(dg.norm())) + 1.0 / integralG), integral);
+          break;
+        }
+        case SourceSampling::SourceDensity:
+        {
+          // Balance heuristic with one sample per strategy: each sample y
+          // in the ball weighs f(y) G / (p_G + p_S), p_G = G / ∫G and p_S
+          // the map's density, i.e. f(y) / (1/∫G + p_S/G): ∫G where G is
+          // infinite (y = x), 0 where G vanishes (on the sphere). p_G
+          // covers the whole ball, so the estimate is unbiased whatever the
+          // map; the map's sample finds a narrow source whenever the ball
+          // holds it. The map draws its DIM + 2 numbers whether or not its
+          // point falls in the ball, so walks stay reproducible.
+          const double integralG = green.Integral();
+          const SourceDensityMap<DIM>* map = this->Concentrated.VolumeDensity;
+          const bool mapped = map && !map->Empty();
+          const Vec<DIM> dg = green.SampleOffset(rng);
+          const double gg = green.Value(dg.norm());
+          const double pg = mapped ? map->Pdf(x + dg) : 0.0;
+          this->AddVolumeSample(x + dg, 1.0 / (1.0 / integralG + pg / gg), integral);
+          if (mapped)
+          {
+            const Vec<DIM> y = map->Sample(rng);
+            const double r = (y - x).norm();
+            if (r < radius)
+            {
+              const double gs = green.Value(r);
+              this->AddVolumeSample(y, gs / (gs / integralG + map->Pdf(y)), integral);
+            }
+          }
           break;
         }
       }

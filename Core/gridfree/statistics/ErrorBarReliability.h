@@ -39,8 +39,9 @@
 // A point is unreliable when any holds. What it does not catch: a tail
 // that no walk of the point has reached yet while the walks seen still
 // differ in the ordinary way (a narrow peak in g reached by one walk in
-// thousands; a source much narrower than the domain, under every source
-// sampling: mean z² 2.4–3.2 below 1,024 walks, 1.2 at 4,096; rarely, a
+// thousands; a source much narrower than the domain, unless sampled by
+// its density (SourceSampling::SourceDensity): mean z² 2.4–3.2 below
+// 1,024 walks, 1.2 at 4,096; rarely, a
 // near-boundary point that saw one far walk where a dozen were due). Nothing in such a point's walks tells it apart; more
 // walks, or two seeds compared, are the remedy there.
 #ifndef GRIDFREE_STATISTICS_ERROR_BAR_RELIABILITY_H
