@@ -164,6 +164,36 @@ void AddNaNSamples(
   counters.Walks += static_cast<std::uint64_t>(walks);
 }
 
+// The loop every estimator runs at a probe point: walks firstWalk ..
+// firstWalk + walks − 1, each on its own random stream keyed by the seed,
+// the point and the walk's number, so results never depend on how points
+// or walks are spread over threads. walk(x0, w, rng, steps) fills `sample`
+// and returns how the walk ended; non-finite start points give NaN samples.
+template <int DIM, class Statistics, class WalkFunction>
+void RunPointWalks(const double probeXYZ[3], std::uint64_t seed, std::uint64_t firstWalk,
+  int walks, std::vector<double>& sample, Statistics& stats, WalkCounters& counters,
+  WalkFunction&& walk)
+{
+  Vec<DIM> x0;
+  if (!ProbeStartPoint<DIM>(probeXYZ, x0))
+  {
+    AddNaNSamples(sample, walks, stats, counters);
+    return;
+  }
+  const std::uint64_t key = PointKey(seed, probeXYZ);
+  for (int w = 0; w < walks; ++w)
+  {
+    RandomStream rng(key, firstWalk + static_cast<std::uint64_t>(w));
+    int steps = 0;
+    const WalkEnd end = walk(x0, w, rng, steps);
+    stats.Add(sample.data());
+    counters.Walks += 1;
+    counters.Steps += static_cast<std::uint64_t>(steps);
+    counters.Escaped += end == WalkEnd::Escaped ? 1 : 0;
+    counters.Truncated += end == WalkEnd::MaxSteps ? 1 : 0;
+  }
+}
+
 // One thread's estimator. The boundary's values hold Components() numbers
 // per tuple; for the biharmonic equation they are g followed by h (so one
 // closest-point query gives both), and the estimate is u followed by Δu.
@@ -268,31 +298,22 @@ public:
   void EstimatePoint(const double probeXYZ[3], std::uint64_t seed, std::uint64_t firstWalk,
     int walks, Statistics& stats, WalkCounters& counters)
   {
-    Vec<DIM> x0;
-    if (!ProbeStartPoint<DIM>(probeXYZ, x0))
-    {
-      AddNaNSamples(this->Sample, walks, stats, counters);
-      return;
-    }
-    const double escapeRadius = this->EscapeRadius(x0);
-    const std::uint64_t key = PointKey(seed, probeXYZ);
+    double escapeRadius = 0.0;
     const int weightSlot = this->WeightSlot();
-    for (int w = 0; w < walks; ++w)
-    {
-      RandomStream rng(key, firstWalk + static_cast<std::uint64_t>(w));
-      int steps = 0;
-      const WalkEnd end =
-        this->Walk(x0, escapeRadius, rng, this->Sample.data(), steps, counters.Returns);
-      if (weightSlot >= 0)
-      {
-        this->Sample[weightSlot] = this->EndWeight;
-      }
-      stats.Add(this->Sample.data());
-      counters.Walks += 1;
-      counters.Steps += static_cast<std::uint64_t>(steps);
-      counters.Escaped += end == WalkEnd::Escaped ? 1 : 0;
-      counters.Truncated += end == WalkEnd::MaxSteps ? 1 : 0;
-    }
+    RunPointWalks<DIM>(probeXYZ, seed, firstWalk, walks, this->Sample, stats, counters,
+      [&](const Vec<DIM>& x0, int w, RandomStream& rng, int& steps) {
+        if (w == 0)
+        {
+          escapeRadius = this->EscapeRadius(x0);
+        }
+        const WalkEnd end =
+          this->Walk(x0, escapeRadius, rng, this->Sample.data(), steps, counters.Returns);
+        if (weightSlot >= 0)
+        {
+          this->Sample[weightSlot] = this->EndWeight;
+        }
+        return end;
+      });
   }
 
   // Radius of the far sphere for walks from x0 (equations without an

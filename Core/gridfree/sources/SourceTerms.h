@@ -124,6 +124,16 @@ public:
   template <class Green>
   void Accumulate(const Vec<DIM>& x, const Green& green, RandomStream& rng, double* integral)
   {
+    this->Accumulate(x, green, rng, integral, [](const Vec<DIM>&) { return 1.0; });
+  }
+
+  // The same over part of the ball: each sample y is multiplied by keep(y),
+  // called only for samples of nonzero weight. Walk on stars passes the
+  // indicator of its star-shaped region (y seen from x), times 1/α.
+  template <class Green, class Keep>
+  void Accumulate(
+    const Vec<DIM>& x, const Green& green, RandomStream& rng, double* integral, const Keep& keep)
+  {
     const double radius = green.Radius();
     if (this->Volume)
     {
@@ -133,13 +143,13 @@ public:
         case SourceSampling::Uniform:
         {
           const Vec<DIM> d = radius * SampleUnitBall<DIM>(rng);
-          this->AddVolumeSample(x + d, volume * green.Value(d.norm()), integral);
+          this->AddVolumeSample(x + d, volume * green.Value(d.norm()), integral, keep);
           break;
         }
         case SourceSampling::GreensFunction:
         {
           const Vec<DIM> d = green.SampleOffset(rng);
-          this->AddVolumeSample(x + d, green.Integral(), integral);
+          this->AddVolumeSample(x + d, green.Integral(), integral, keep);
           break;
         }
         case SourceSampling::MultipleImportance:
@@ -149,11 +159,11 @@ public:
           // that stays finite where G is infinite (y = x).
           const double integralG = green.Integral();
           const Vec<DIM> du = radius * SampleUnitBall<DIM>(rng);
-          this->AddVolumeSample(
-            x + du, 1.0 / (1.0 / (volume * green.Value(du.norm())) + 1.0 / integralG), integral);
+          this->AddVolumeSample(x + du,
+            1.0 / (1.0 / (volume * green.Value(du.norm())) + 1.0 / integralG), integral, keep);
           const Vec<DIM> dg = green.SampleOffset(rng);
-          this->AddVolumeSample(
-            x + dg, 1.0 / (1.0 / (volume * green.Value(dg.norm())) + 1.0 / integralG), integral);
+          this->AddVolumeSample(x + dg,
+            1.0 / (1.0 / (volume * green.Value(dg.norm())) + 1.0 / integralG), integral, keep);
           break;
         }
         case SourceSampling::SourceDensity:
@@ -172,7 +182,7 @@ public:
           const Vec<DIM> dg = green.SampleOffset(rng);
           const double gg = green.Value(dg.norm());
           const double pg = mapped ? map->Pdf(x + dg) : 0.0;
-          this->AddVolumeSample(x + dg, 1.0 / (1.0 / integralG + pg / gg), integral);
+          this->AddVolumeSample(x + dg, 1.0 / (1.0 / integralG + pg / gg), integral, keep);
           if (mapped)
           {
             const Vec<DIM> y = map->Sample(rng);
@@ -180,7 +190,7 @@ public:
             if (r < radius)
             {
               const double gs = green.Value(r);
-              this->AddVolumeSample(y, gs / (gs / integralG + map->Pdf(y)), integral);
+              this->AddVolumeSample(y, gs / (gs / integralG + map->Pdf(y)), integral, keep);
             }
           }
           break;
@@ -191,7 +201,11 @@ public:
     if (this->Concentrated.Points && !this->Concentrated.Points->Empty())
     {
       this->Concentrated.Points->ForEachInBall(x, radius, [&](const Vec<DIM>& z, const double* s) {
-        const double g = green.Value((z - x).norm());
+        double g = green.Value((z - x).norm());
+        if (g > 0.0)
+        {
+          g *= keep(z);
+        }
         for (int c = 0; c < nc; ++c)
         {
           integral[c] += g * s[c];
@@ -205,7 +219,11 @@ public:
       if (this->Concentrated.Curves->SampleInBall(
             x, radius, rng, this->CurveScratch, z, this->Strength.data(), length))
       {
-        const double g = length * green.Value((z - x).norm());
+        double g = length * green.Value((z - x).norm());
+        if (g > 0.0)
+        {
+          g *= keep(z);
+        }
         for (int c = 0; c < nc; ++c)
         {
           integral[c] += g * this->Strength[c];
@@ -215,11 +233,17 @@ public:
   }
 
 private:
-  void AddVolumeSample(const Vec<DIM>& y, double weight, double* integral)
+  template <class Keep>
+  void AddVolumeSample(const Vec<DIM>& y, double weight, double* integral, const Keep& keep)
   {
     if (!(weight > 0.0) || !std::isfinite(weight))
     {
       return; // G = 0 on the sphere; a zero-weight sample adds nothing
+    }
+    weight *= keep(y);
+    if (weight == 0.0)
+    {
+      return;
     }
     this->Volume->Evaluate(y, this->F.data());
     for (int c = 0; c < this->Components; ++c)

@@ -1,0 +1,343 @@
+// Walk on stars (Sawhney, Miller, Gkioulekas & Crane 2023) for
+//
+//   Laplace          Δu = 0
+//   Poisson          Δu = f
+//   ScreenedPoisson  Δu − c·u = f   (c > 0)
+//
+// with u = g on the Dirichlet part of the boundary and ∂u/∂n = h on the
+// Neumann part (n the outward normal): MixedBoundary.h. Documentation/
+// WalkOnStars.md has the derivation, the equation numbers cited here and
+// what was checked against the authors' library.
+//
+// One step from x_k (on the Neumann part or inside the domain), with ball
+// Green's function G of radius R (GreensFunctions.h) and α = 1/2 on the
+// Neumann part, 1 inside (WoSt-2):
+//
+//   α u(x_k) = E[Q(r) u(x_{k+1})] + ∫_{∂St ∩ Γ_N} G h dz − ∫_{St} G f dy.
+//
+// - R = min(distance to the Dirichlet part, distance to the closest
+//   silhouette of the Neumann part); below that the star St(x_k, R), the part
+//   of the ball seen from x_k, is star-shaped (WoSt-1). A silhouette closer
+//   than 0.99·ε is ignored and R = ε (a small bias near reflex corners, where
+//   walks would otherwise take ever smaller steps).
+// - Direction v uniform on the sphere; on the Neumann part, in the inward
+//   hemisphere (density 2/|S|, which cancels 1/α).
+// - x_{k+1}: the first Neumann point on the ray within R, else x_k + R v.
+//   The walk's weight is multiplied by Q(r) (StarKernels.h, WoSt-4): 1 for
+//   Δ, the screened kernel's ratio for Δ − c.
+// - The flux term: one point z on the Neumann part in the ball
+//   (ReflectingBoundarySampler.h), kept if x_k sees it, weight G(|z − x_k|)
+//   h(z) / (α pdf(z)) (WoSt-3).
+// - The source term: the walk-on-spheres sampler of the ball (SourceTerms.h)
+//   with every sample y outside St (hidden from x_k, or behind the Neumann
+//   part x_k lies on) given weight 0, the others 1/α; minus sign as in
+//   FORMULAS.md §2.
+// A walk ends within ε of the Dirichlet part and takes g at its closest
+// point there. A screened walk whose weight falls below kRouletteWeight
+// survives with probability weight / kRouletteWeight and then carries
+// kRouletteWeight (unbiased): with no Dirichlet part that is how walks end.
+#ifndef GRIDFREE_STARS_WALK_ON_STARS_H
+#define GRIDFREE_STARS_WALK_ON_STARS_H
+
+#include <gridfree/estimators/EquationPolicies.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/sampling/Random.h>
+#include <gridfree/sampling/SphereSampling.h>
+#include <gridfree/sources/SourceTerms.h>
+#include <gridfree/stars/MixedBoundary.h>
+#include <gridfree/stars/StarKernels.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace gridfree
+{
+template <int DIM>
+class WalkOnStarsEstimator
+{
+public:
+  // Weight below which screened walks play Russian roulette.
+  static constexpr double kRouletteWeight = 0.1;
+  // Fraction of the distance to the closest silhouette a star may reach.
+  static constexpr double kSilhouetteShrink = 0.99;
+
+  WalkOnStarsEstimator(const MixedBoundary<DIM>& boundary, const WalkSettings& settings,
+    VolumeSource<DIM>* volume = nullptr,
+    const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>())
+    : Geometry(boundary)
+    , Settings(settings)
+    , NumberOfComponents(boundary.Components())
+    , Sources(boundary.Components(), settings.Sampling,
+        settings.Problem == Equation::Laplace ? nullptr : volume,
+        settings.Problem == Equation::Laplace ? ConcentratedSourceSet<DIM>() : concentrated)
+    , Values(boundary.Components())
+    , Inner(boundary.Components())
+    , Accumulated(boundary.Components())
+    , Sample(boundary.Components())
+  {
+    if (settings.Problem == Equation::Biharmonic)
+    {
+      throw std::invalid_argument("walk on stars solves Laplace, Poisson and screened Poisson "
+                                  "equations, not the biharmonic one");
+    }
+    const bool screened = settings.Problem == Equation::ScreenedPoisson;
+    if (screened && !(settings.ScreeningCoefficient > 0.0))
+    {
+      throw std::invalid_argument("the screening coefficient must be positive");
+    }
+    if (!boundary.HasDirichlet() && !screened)
+    {
+      throw std::invalid_argument(
+        "a boundary without a Dirichlet part needs screening: with Neumann conditions alone "
+        "the solution of a Laplace or Poisson equation is not unique");
+    }
+    const double diagonal = std::max(boundary.Diagonal(), settings.Epsilon);
+    this->Center = boundary.Center();
+    this->MaxRadius = diagonal;
+    this->EscapeRadius = std::max(settings.EscapeRadiusFactor, 1.0) * diagonal;
+    this->Offset = 1e-9 * diagonal;
+    this->MinDistance = 1e-12 * diagonal;
+  }
+
+  int OutputComponents() const { return this->NumberOfComponents; }
+
+  // Rays that met the Neumann part from outside, over this estimator's life:
+  // nonzero means the Neumann part is inconsistently oriented or leaks.
+  std::uint64_t BackFaceHits() const { return this->BackHits; }
+
+  // As WalkOnSpheresEstimator::EstimatePoint: walks firstWalk ..
+  // firstWalk + walks − 1 from the probe point, into stats and counters.
+  template <class Statistics>
+  void EstimatePoint(const double probeXYZ[3], std::uint64_t seed, std::uint64_t firstWalk,
+    int walks, Statistics& stats, WalkCounters& counters)
+  {
+    RunPointWalks<DIM>(probeXYZ, seed, firstWalk, walks, this->Sample, stats, counters,
+      [this](const Vec<DIM>& x0, int, RandomStream& rng, int& steps) {
+        return this->Walk(x0, rng, this->Sample.data(), steps);
+      });
+  }
+
+  // One walk from x0 (inside the domain); writes OutputComponents() numbers.
+  WalkEnd Walk(const Vec<DIM>& x0, RandomStream& rng, double* sample, int& steps)
+  {
+    if (this->Settings.Problem == Equation::ScreenedPoisson)
+    {
+      return this->WalkWith(
+        x0, rng, sample, steps, equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
+    }
+    return this->WalkWith(x0, rng, sample, steps, equations::Harmonic<DIM>{});
+  }
+
+private:
+  // Whether x sees y: not behind the Neumann part x lies on (normal n), and
+  // no Neumann primitive between them. `origin` is x moved off that part.
+  bool Sees(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
+    const Vec<DIM>& y) const
+  {
+    if (onNeumann && (y - x).dot(n) > 1e-7 * (y - x).norm())
+    {
+      return false;
+    }
+    return !this->Geometry.Reflecting().Hierarchy().Occluded(origin, y - origin, 1.0, 0.0);
+  }
+
+  template <class Policy>
+  WalkEnd WalkWith(Vec<DIM> x, RandomStream& rng, double* sample, int& steps, const Policy& equation)
+  {
+    constexpr bool screened = Policy::WeightsSteps;
+    const WalkSettings& s = this->Settings;
+    const MixedBoundary<DIM>& b = this->Geometry;
+    const bool hasD = b.HasDirichlet();
+    const bool hasN = b.HasReflecting();
+    const int nc = this->NumberOfComponents;
+    const double sqrtC = std::sqrt(equation.ScreeningCoefficient());
+    const double escape2 = this->EscapeRadius * this->EscapeRadius;
+    std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
+    double weight = 1.0;
+    bool onNeumann = false;
+    Vec<DIM> n = Vec<DIM>::Zero();
+    WalkEnd end = WalkEnd::Boundary;
+    bool hasValue = true;
+    typename Boundary<DIM>::StepHint hint;
+    for (steps = 0;; ++steps)
+    {
+      if (!((x - this->Center).squaredNorm() <= escape2))
+      {
+        end = WalkEnd::Escaped;
+        hasValue = false;
+        break;
+      }
+      const double toDirichlet =
+        hasD ? b.Dirichlet().StepRadius(x, s.Epsilon, &hint) : std::numeric_limits<double>::infinity();
+      if (!(toDirichlet >= s.Epsilon))
+      {
+        break;
+      }
+      if (steps >= s.MaxSteps)
+      {
+        end = WalkEnd::MaxSteps;
+        break;
+      }
+      double radius = std::min(toDirichlet, this->MaxRadius);
+      if (hasN)
+      {
+        const double toSilhouette = b.Silhouettes().ClosestDistance(x, radius);
+        if (toSilhouette < radius)
+        {
+          radius = std::max(s.Epsilon, kSilhouetteShrink * toSilhouette);
+        }
+      }
+      const auto green = equation.Green(radius);
+      const double alphaInverse = onNeumann ? 2.0 : 1.0;
+
+      Vec<DIM> v = SampleUnitSphere<DIM>(rng);
+      if (onNeumann && v.dot(n) > 0.0)
+      {
+        v = -v; // the inward hemisphere
+      }
+      const Vec<DIM> origin = onNeumann ? Vec<DIM>(x - this->Offset * n) : x;
+
+      if (this->Sources.Active())
+      {
+        // −∫_{St} f G (WoSt-2; FORMULAS.md §2 for the sign).
+        std::fill(this->Inner.begin(), this->Inner.end(), 0.0);
+        this->Sources.Accumulate(x, green, rng, this->Inner.data(),
+          [&](const Vec<DIM>& y) {
+            return !hasN || this->Sees(x, origin, onNeumann, n, y) ? alphaInverse : 0.0;
+          });
+        for (int c = 0; c < nc; ++c)
+        {
+          this->Accumulated[c] -= weight * this->Inner[c];
+        }
+      }
+
+      if (hasN)
+      {
+        this->AddFluxTerm(x, origin, onNeumann, n, radius, green, alphaInverse * weight, rng);
+        const RayHit<DIM> hit = b.Reflecting().Hierarchy().Intersect(origin, v, radius);
+        if (hit.Hit() && hit.t < radius)
+        {
+          Vec<DIM> normal = b.OutwardNormal(hit.primitive);
+          if (normal.dot(v) < 0.0)
+          {
+            // Met from outside: keep the walk on the side it came from.
+            ++this->BackHits;
+            normal = -normal;
+          }
+          if constexpr (screened)
+          {
+            weight *= ScreenedRayWeight<DIM>((hit.point - x).norm(), radius, sqrtC);
+          }
+          x = hit.point;
+          n = normal;
+          onNeumann = true;
+        }
+        else
+        {
+          x += radius * v;
+          onNeumann = false;
+          if constexpr (screened)
+          {
+            weight *= green.BoundaryWeight();
+          }
+        }
+      }
+      else
+      {
+        x += radius * v;
+        if constexpr (screened)
+        {
+          weight *= green.BoundaryWeight();
+        }
+      }
+
+      if constexpr (screened)
+      {
+        if (weight < kRouletteWeight)
+        {
+          if (rng.NextDouble() * kRouletteWeight >= weight)
+          {
+            end = WalkEnd::Terminated;
+            hasValue = false;
+            break;
+          }
+          weight = kRouletteWeight;
+        }
+      }
+    }
+
+    if (hasValue && hasD)
+    {
+      b.Dirichlet().Evaluate(x, b.Dirichlet().ClosestPoint(x, hint), this->Values.data());
+    }
+    else
+    {
+      std::fill(this->Values.begin(), this->Values.end(), 0.0);
+    }
+    for (int c = 0; c < nc; ++c)
+    {
+      sample[c] = this->Accumulated[c] + weight * this->Values[c];
+    }
+    return end;
+  }
+
+  // Adds factor · G(|z − x|) h(z) / pdf(z) for one point z of the Neumann
+  // part in the ball that x sees (WoSt-3); nothing when none is drawn.
+  template <class Green>
+  void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
+    double radius, const Green& green, double factor, RandomStream& rng)
+  {
+    const MixedBoundary<DIM>& b = this->Geometry;
+    BoundarySample<DIM> z;
+    if (!b.FluxSampler().Sample(x, radius, rng, z))
+    {
+      return;
+    }
+    const double r = (z.Point - x).norm();
+    if (!(r < radius))
+    {
+      return;
+    }
+    // Test visibility to a point just inside the domain off z, so that the
+    // primitive z lies on does not hide it.
+    const Vec<DIM> target = z.Point - this->Offset * b.OutwardNormal(z.Primitive);
+    if (!this->Sees(x, origin, onNeumann, n, target))
+    {
+      return;
+    }
+    ClosestPointResult<DIM> at;
+    at.point = z.Point;
+    at.distance = 0.0;
+    at.primitive = z.Primitive;
+    at.barycentric = z.Barycentric;
+    b.Reflecting().Evaluate(at, this->Inner.data());
+    const double w = factor * green.Value(std::max(r, this->MinDistance)) / z.Pdf;
+    for (int c = 0; c < this->NumberOfComponents; ++c)
+    {
+      this->Accumulated[c] += w * this->Inner[c];
+    }
+  }
+
+  const MixedBoundary<DIM>& Geometry;
+  WalkSettings Settings;
+  int NumberOfComponents;
+  SourceIntegrator<DIM> Sources;
+  Vec<DIM> Center = Vec<DIM>::Zero();
+  double MaxRadius = 0.0;
+  double EscapeRadius = 0.0;
+  double Offset = 0.0;
+  double MinDistance = 0.0;
+  std::uint64_t BackHits = 0;
+  // Scratch: end values, one source or flux evaluation, the running sum, a sample.
+  std::vector<double> Values;
+  std::vector<double> Inner;
+  std::vector<double> Accumulated;
+  std::vector<double> Sample;
+};
+} // namespace gridfree
+
+#endif
