@@ -105,14 +105,20 @@ std::vector<Vec<DIM>> PointsInside(const Shape<DIM>& shape, int count, std::uint
   return points;
 }
 
+// The Robin coefficient μ of a primitive from its centroid (0: Neumann).
+template <int DIM>
+using RobinRule = std::function<double(const Vec<DIM>&)>;
+
 // The mixed boundary of a shape: primitives for which `isDirichlet(centroid)`
-// holds take g = u, the others the flux h = ∇u·n.
+// holds take g = u, the others h = ∂u/∂n + μu with μ = robin(centroid).
 template <int DIM>
 MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
   const std::function<bool(const Vec<DIM>&)>& isDirichlet, const Field<DIM>& u,
-  const Gradient<DIM>& grad, bool silhouettes = true, double fluxScale = 1.0)
+  const Gradient<DIM>& grad, bool silhouettes = true, double fluxScale = 1.0,
+  const RobinRule<DIM>& robin = nullptr)
 {
   std::vector<BoundaryCondition> conditions;
+  std::vector<double> mu;
   for (const auto& p : mesh.Simplices)
   {
     Vec<DIM> c = Vec<DIM>::Zero();
@@ -120,7 +126,10 @@ MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
     {
       c += mesh.Vertices[p[k]] / DIM;
     }
-    conditions.push_back(isDirichlet(c) ? BoundaryCondition::Dirichlet : BoundaryCondition::Neumann);
+    mu.push_back(robin ? robin(c) : 0.0);
+    conditions.push_back(isDirichlet(c) ? BoundaryCondition::Dirichlet
+        : mu.back() > 0.0               ? BoundaryCondition::Robin
+                                        : BoundaryCondition::Neumann);
   }
   const std::vector<std::array<std::int64_t, DIM>> prims(mesh.Simplices.begin(), mesh.Simplices.end());
   MeshPart<DIM> d, r;
@@ -133,23 +142,26 @@ MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
       std::make_shared<CallableBoundaryValues<DIM>>(
         [u](const Vec<DIM>& z, std::int64_t, double* out) { out[0] = u(z); }, 1));
   }
+  std::vector<double> partMu;
   if (!r.Primitives.empty())
   {
     std::vector<Vec<DIM>> normals;
-    for (const auto& p : r.Primitives)
+    for (std::size_t i = 0; i < r.Primitives.size(); ++i)
     {
-      normals.push_back(OutwardUnitNormal<DIM>(r.Vertices, p));
+      normals.push_back(OutwardUnitNormal<DIM>(r.Vertices, r.Primitives[i]));
+      partMu.push_back(mu[static_cast<std::size_t>(r.Original[i])]);
     }
     reflecting = std::make_shared<Boundary<DIM>>();
     reflecting->SetMesh(r.Vertices, r.Primitives,
       std::make_shared<CallableBoundaryValues<DIM>>(
-        [grad, normals, fluxScale](const Vec<DIM>& z, std::int64_t prim, double* out) {
-          out[0] = fluxScale * grad(z).dot(normals[static_cast<std::size_t>(prim)]);
+        [u, grad, normals, partMu, fluxScale](const Vec<DIM>& z, std::int64_t prim, double* out) {
+          const std::size_t i = static_cast<std::size_t>(prim);
+          out[0] = fluxScale * (grad(z).dot(normals[i]) + partMu[i] * u(z));
         },
         1));
   }
   MixedBoundary<DIM> mixed;
-  mixed.Set(dirichlet, reflecting, silhouettes);
+  mixed.Set(dirichlet, reflecting, robin ? partMu : std::vector<double>(), silhouettes);
   return mixed;
 }
 
@@ -293,6 +305,100 @@ void ScreenedPureNeumann(const Shape<DIM>& shape, int points, int walks)
 
 TEST(WalkOnStars, ScreenedPureNeumann2D) { ScreenedPureNeumann<2>(UShape(), 300, 1024); }
 TEST(WalkOnStars, ScreenedPureNeumann3D) { ScreenedPureNeumann<3>(LPrism(), 200, 128); }
+
+// Robin conditions ∂u/∂n + μu = h: μ = 1.5 on the U's top sides (2D) or
+// the prism's top face (3D), Neumann on the rest but the Dirichlet part;
+// and Robin everywhere (μ = 1), where walks end only by roulette (fewer
+// points: those walks take 100–130 steps, each bounding its radius by every
+// Robin primitive within reach).
+template <int DIM>
+void Robin(const Shape<DIM>& shape, const std::function<bool(const Vec<DIM>&)>& isDirichlet,
+  const RobinRule<DIM>& robin, const Field<DIM>& u, const Gradient<DIM>& grad, int points,
+  int walks, const char* what)
+{
+  const MixedBoundary<DIM> b = MakeMixed<DIM>(shape.Mesh, isDirichlet, u, grad, true, 1.0, robin);
+  EXPECT_TRUE(b.HasRobin());
+  const Calibration c = RunStars<DIM>(b, Laplace(), PointsInside(shape, points, 5), u, walks);
+  Report(what, c);
+  ExpectCalibrated(c, points);
+}
+
+const auto kNever2 = [](const Vec2&) { return false; };
+const auto kNever3 = [](const Vec3&) { return false; };
+TEST(WalkOnStars, RobinMixed2D)
+{
+  Robin<2>(UShape(), BottomSide2, [](const Vec2& c) { return c[1] > 0.99 ? 1.5 : 0.0; }, kU2,
+    kGrad2, 300, 1024, "Robin 2D");
+}
+TEST(WalkOnStars, RobinMixed3D)
+{
+  Robin<3>(LPrism(), BottomOrBack3, [](const Vec3& c) { return c[2] > 0.59 ? 1.5 : 0.0; }, kU3,
+    kGrad3, 200, 128, "Robin 3D");
+}
+TEST(WalkOnStars, RobinOnly2D)
+{
+  Robin<2>(UShape(), kNever2, [](const Vec2&) { return 1.0; }, kU2, kGrad2, 150, 512, "Robin only 2D");
+}
+TEST(WalkOnStars, RobinOnly3D)
+{
+  Robin<3>(LPrism(), kNever3, [](const Vec3&) { return 1.0; }, kU3, kGrad3, 100, 128, "Robin only 3D");
+}
+
+// WoSt-7's radius: within RobinRadius(x, ·), every Robin point z that a ray
+// from x meets from inside (n·v > 0) gives the harmonic weight
+// 1 − μ|S| G(r) r^{n−1}/(n·v) >= 0; and the radius is not needlessly small
+// (some point within 1.5 times it would give a negative weight, or the
+// radius is the one asked for).
+template <int DIM>
+void ExpectRobinRadiusKeepsWeights(const Shape<DIM>& shape, double mu)
+{
+  const MixedBoundary<DIM> b = MakeMixed<DIM>(shape.Mesh, [](const Vec<DIM>&) { return false; },
+    [](const Vec<DIM>&) { return 0.0; }, [](const Vec<DIM>&) { return Vec<DIM>(Vec<DIM>::Zero()); },
+    true, 1.0, [mu](const Vec<DIM>&) { return mu; });
+  const ReflectingBoundarySampler<DIM>& sampler = b.FluxSampler();
+  auto weight = [&](const Vec<DIM>& x, double R, const BoundarySample<DIM>& z) {
+    const Vec<DIM> d = z.Point - x;
+    const double r = d.norm();
+    const double cosine = b.OutwardNormal(z.Primitive).dot(d) / r;
+    return 1.0 - mu * UnitSphereArea<DIM>() * HarmonicGreensFunction<DIM>(R).Value(r) *
+      std::pow(r, DIM - 1) / cosine;
+  };
+  int tight = 0;
+  const auto points = PointsInside(shape, 60, 9);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const Vec<DIM>& x = points[i];
+    const double asked = 10.0;
+    const double R = b.RobinRadius(x, asked);
+    ASSERT_GT(R, 0.0);
+    double lowest = 1.0;
+    for (int k = 0; k < 20000; ++k)
+    {
+      RandomStream rng(i, static_cast<std::uint64_t>(k));
+      BoundarySample<DIM> z;
+      if (sampler.Sample(x, 1.5 * R, rng, z) && (z.Point - x).norm() < 1.5 * R &&
+        b.OutwardNormal(z.Primitive).dot(z.Point - x) > 0.0)
+      {
+        if ((z.Point - x).norm() < R)
+        {
+          EXPECT_GE(weight(x, R, z), -1e-9);
+        }
+        else
+        {
+          lowest = std::min(lowest, weight(x, 1.5 * R, z));
+        }
+      }
+    }
+    tight += lowest < 0.0 || R == asked ? 1 : 0;
+  }
+  EXPECT_GT(tight, 50);
+}
+
+TEST(WalkOnStars, RobinRadiusKeepsWeightsNonNegative)
+{
+  ExpectRobinRadiusKeepsWeights<2>(UShape(), 3.0);
+  ExpectRobinRadiusKeepsWeights<3>(LPrism(), 3.0);
+}
 
 // The same problems with a wrong estimator must fail the check that the
 // right one passes: with the flux term dropped, and with silhouettes

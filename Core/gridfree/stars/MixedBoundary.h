@@ -1,6 +1,7 @@
 // A boundary with mixed conditions for walk on stars (Documentation/
 // WalkOnStars.md): a Dirichlet part, where u = g, and a reflecting part,
-// where the outward normal derivative is prescribed, ∂u/∂n = h (Neumann).
+// where ∂u/∂n + μu = h with n the outward normal: Neumann where μ = 0,
+// Robin where μ > 0 (a coefficient per primitive).
 //
 // Each part is a Boundary (Boundary.h) of its own: the Dirichlet part with
 // the values g, the reflecting part with the flux h as its values (the same
@@ -26,6 +27,8 @@
 #include <gridfree/stars/ReflectingBoundarySampler.h>
 #include <gridfree/stars/SilhouetteTree.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -38,7 +41,8 @@ namespace gridfree
 enum class BoundaryCondition : std::uint8_t
 {
   Dirichlet = 0, // u = g
-  Neumann = 1    // ∂u/∂n = h, n the outward normal
+  Neumann = 1,   // ∂u/∂n = h, n the outward normal
+  Robin = 2      // ∂u/∂n + μu = h, μ > 0
 };
 
 // One part of a mesh: its own compact vertex list, its primitives, and for
@@ -103,12 +107,17 @@ public:
   // part must be a mesh (it is traced by rays and sampled), with as many
   // value components (the flux) as the Dirichlet part has.
   //
+  // `robin` holds μ >= 0 per primitive of the reflecting part (empty: all
+  // 0, a Neumann part); Robin primitives bound the stars' radii so that the
+  // walk's weights stay in [0, 1] (RobinRadius).
+  //
   // `silhouettes` = false leaves the silhouette candidates out, so stars
   // reach the Dirichlet part whatever hides behind the Neumann part's reflex
   // corners: wrong there (biased), right where that part is convex seen from
   // inside. It exists to show what silhouettes are for.
   void Set(std::shared_ptr<const Boundary<DIM>> dirichlet,
-    std::shared_ptr<const Boundary<DIM>> reflecting, bool silhouettes = true)
+    std::shared_ptr<const Boundary<DIM>> reflecting, std::vector<double> robin = {},
+    bool silhouettes = true)
   {
     const bool hasD = dirichlet && !dirichlet->Empty();
     const bool hasR = reflecting && !reflecting->Empty();
@@ -125,6 +134,21 @@ public:
       throw std::invalid_argument("mixed boundary: the Dirichlet values and the Neumann flux "
                                   "must have the same number of components");
     }
+    const std::size_t reflectingPrimitives = hasR ? reflecting->NumberOfPrimitives() : 0;
+    if (!robin.empty() && robin.size() != reflectingPrimitives)
+    {
+      throw std::invalid_argument("mixed boundary: expected one Robin coefficient per primitive "
+                                  "of the Neumann part");
+    }
+    for (double mu : robin)
+    {
+      if (!(mu >= 0.0) || !std::isfinite(mu))
+      {
+        throw std::invalid_argument("mixed boundary: Robin coefficients must be finite and >= 0");
+      }
+    }
+    this->Robin = std::move(robin);
+    this->AnyRobin = std::any_of(this->Robin.begin(), this->Robin.end(), [](double mu) { return mu > 0.0; });
     this->DirichletPart = hasD ? std::move(dirichlet) : nullptr;
     this->ReflectingPart = hasR ? std::move(reflecting) : nullptr;
     this->Normals.clear();
@@ -169,6 +193,51 @@ public:
                                : this->ReflectingPart->Components();
   }
 
+  // Whether some primitive has a Robin coefficient μ > 0.
+  bool HasRobin() const { return this->AnyRobin; }
+  double RobinCoefficient(std::int64_t primitive) const
+  {
+    return this->AnyRobin ? this->Robin[static_cast<std::size_t>(primitive)] : 0.0;
+  }
+
+  // The largest radius <= R at which every Robin point z of the star keeps
+  // the walk's weight 1 − μ|S| G(r) r^{n−1}/(n·v) >= 0 for Δ (WalkOnStars.md
+  // §1, WoSt-7). With h the distance from x to a primitive's plane, n·v =
+  // h/r, and max over r < R of r²(1 − r/R) is 4R²/27 (3D), of r² ln(R/r)
+  // R²/(2e) (2D): so R <= sqrt(27h/(4μ)) (3D), sqrt(2e h/μ) (2D) for each
+  // Robin primitive nearer than R, unless the primitive lies beyond R.
+  double RobinRadius(const Vec<DIM>& x, double R) const
+  {
+    if (!this->AnyRobin)
+    {
+      return R;
+    }
+    double radius = R;
+    const auto& vertices = this->ReflectingPart->MeshVertices();
+    const auto& prims = this->ReflectingPart->MeshPrimitives();
+    const double c = DIM == 3 ? 27.0 / 4.0 : 2.0 * M_E;
+    this->Sampler.VisitWithin(x, radius, [&](std::int64_t prim) {
+      const double mu = this->Robin[static_cast<std::size_t>(prim)];
+      if (!(mu > 0.0))
+      {
+        return;
+      }
+      const Vec<DIM>& p0 = vertices[static_cast<std::size_t>(prims[static_cast<std::size_t>(prim)][0])];
+      const double h = std::abs((x - p0).dot(this->Normals[static_cast<std::size_t>(prim)]));
+      const double bound2 = c * h / mu;
+      if (!(bound2 < radius * radius))
+      {
+        return; // the plane is far enough: this primitive cannot shrink the radius
+      }
+      const double d2 = this->Sampler.SquaredDistance(prim, x);
+      if (d2 < radius * radius)
+      {
+        radius = std::min(radius, std::sqrt(std::max(d2, bound2)));
+      }
+    });
+    return radius;
+  }
+
   // Unit outward normal of a primitive of the reflecting part.
   const Vec<DIM>& OutwardNormal(std::int64_t primitive) const
   {
@@ -185,6 +254,8 @@ private:
   SilhouetteTree<DIM> Silhouette;
   ReflectingBoundarySampler<DIM> Sampler;
   std::vector<Vec<DIM>> Normals;
+  std::vector<double> Robin; // μ per reflecting primitive (empty: none)
+  bool AnyRobin = false;
   BoundingBox<DIM> Box;
 };
 } // namespace gridfree

@@ -15,6 +15,8 @@
 #define GRIDFREE_STARS_REFLECTING_BOUNDARY_SAMPLER_H
 
 #include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/stars/BoxTreeTraversal.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/math/Vector.h>
 #include <gridfree/sampling/Random.h>
 
@@ -145,6 +147,54 @@ public:
       index = parent;
     }
     return this->Nodes[0].Box.SquaredDistance(x) < R * R ? pdf : 0.0;
+  }
+
+  // Calls visit(primitive) for every primitive in a leaf whose box is nearer
+  // to x than `radius`, which visit may shrink (later boxes are then tested
+  // against the smaller radius); nearer subtrees first. The primitive itself
+  // may lie farther (SquaredDistance tells). Walk on stars bounds its
+  // radius by the Robin primitives this way.
+  template <class Visit>
+  void VisitWithin(const Vec<DIM>& x, double& radius, const Visit& visit) const
+  {
+    if (this->Nodes.empty())
+    {
+      return;
+    }
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0)
+    {
+      const Node& node = this->Nodes[stack[--top]];
+      if (!(node.Box.SquaredDistance(x) < radius * radius))
+      {
+        continue;
+      }
+      if (node.Count > 0)
+      {
+        for (std::uint32_t i = node.First; i < node.First + node.Count; ++i)
+        {
+          visit(this->Order[i]);
+        }
+        continue;
+      }
+      PushNearerChildLast<DIM>(this->Nodes, node.Left, x, stack, top);
+    }
+  }
+
+  // Squared distance from x to a primitive.
+  double SquaredDistance(std::int64_t prim, const Vec<DIM>& x) const
+  {
+    const Primitive& p = this->Primitives[static_cast<std::size_t>(prim)];
+    if constexpr (DIM == 2)
+    {
+      return SquaredDistanceToSegment<2>(x, this->Vertices[p[0]], this->Vertices[p[1]]);
+    }
+    else
+    {
+      return SquaredDistanceToTriangle(x, this->Vertices[p[0]], this->Vertices[p[1]], this->Vertices[p[2]]);
+    }
   }
 
   double Area(std::int64_t prim) const { return this->Areas[static_cast<std::size_t>(prim)]; }

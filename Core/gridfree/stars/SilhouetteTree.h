@@ -27,6 +27,7 @@
 #define GRIDFREE_STARS_SILHOUETTE_TREE_H
 
 #include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/stars/BoxTreeTraversal.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/math/Vector.h>
 
@@ -283,12 +284,7 @@ public:
         }
         continue;
       }
-      // Nearer child last, so that it is visited first.
-      const std::uint32_t l = node.Left, r = node.Left + 1;
-      const bool leftNearer =
-        this->Nodes[l].Box.SquaredDistance(x) <= this->Nodes[r].Box.SquaredDistance(x);
-      stack[top++] = leftNearer ? r : l;
-      stack[top++] = leftNearer ? l : r;
+      PushNearerChildLast<DIM>(this->Nodes, node.Left, x, stack, top);
     }
     return best;
   }

@@ -1,11 +1,13 @@
-// Walk on stars (Sawhney, Miller, Gkioulekas & Crane 2023) for
+// Walk on stars (Sawhney, Miller, Gkioulekas & Crane 2023), with Robin
+// conditions as in "Walkin' Robin" (Miller, Sawhney, Crane & Gkioulekas
+// 2024), for
 //
 //   Laplace          Δu = 0
 //   Poisson          Δu = f
 //   ScreenedPoisson  Δu − c·u = f   (c > 0)
 //
-// with u = g on the Dirichlet part of the boundary and ∂u/∂n = h on the
-// Neumann part (n the outward normal): MixedBoundary.h. Documentation/
+// with u = g on the Dirichlet part of the boundary and ∂u/∂n + μu = h on the
+// reflecting part (n the outward normal; μ = 0: Neumann): MixedBoundary.h. Documentation/
 // WalkOnStars.md has the derivation, the equation numbers cited here and
 // what was checked against the authors' library.
 //
@@ -32,15 +34,20 @@
 //   with every sample y outside St (hidden from x_k, or behind the Neumann
 //   part x_k lies on) given weight 0, the others 1/α; minus sign as in
 //   FORMULAS.md §2.
+// - On a Robin primitive (μ > 0) the ray weight is Q(r) − μ|S| G(r)
+//   r^{n−1}/(n·v) (WoSt-7), and R is also bounded so that this stays >= 0
+//   (MixedBoundary::RobinRadius).
 // A walk ends within ε of the Dirichlet part and takes g at its closest
 // point there. A screened walk whose weight falls below kRouletteWeight
 // survives with probability weight / kRouletteWeight and then carries
 // kRouletteWeight (unbiased): with no Dirichlet part that is how walks end.
+// Walks with Robin primitives play it too, their weights falling at Robin hits.
 #ifndef GRIDFREE_STARS_WALK_ON_STARS_H
 #define GRIDFREE_STARS_WALK_ON_STARS_H
 
 #include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/sampling/BallSampling.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/sampling/SphereSampling.h>
 #include <gridfree/sources/SourceTerms.h>
@@ -89,11 +96,11 @@ public:
     {
       throw std::invalid_argument("the screening coefficient must be positive");
     }
-    if (!boundary.HasDirichlet() && !screened)
+    if (!boundary.HasDirichlet() && !screened && !boundary.HasRobin())
     {
       throw std::invalid_argument(
-        "a boundary without a Dirichlet part needs screening: with Neumann conditions alone "
-        "the solution of a Laplace or Poisson equation is not unique");
+        "a boundary without a Dirichlet part needs screening or a Robin part: with Neumann "
+        "conditions alone the solution of a Laplace or Poisson equation is not unique");
     }
     const double diagonal = std::max(boundary.Diagonal(), settings.Epsilon);
     this->Center = boundary.Center();
@@ -153,6 +160,7 @@ private:
     const MixedBoundary<DIM>& b = this->Geometry;
     const bool hasD = b.HasDirichlet();
     const bool hasN = b.HasReflecting();
+    const bool robin = b.HasRobin();
     const int nc = this->NumberOfComponents;
     const double sqrtC = std::sqrt(equation.ScreeningCoefficient());
     const double escape2 = this->EscapeRadius * this->EscapeRadius;
@@ -189,6 +197,10 @@ private:
         if (toSilhouette < radius)
         {
           radius = std::max(s.Epsilon, kSilhouetteShrink * toSilhouette);
+        }
+        if (robin)
+        {
+          radius = std::max(s.Epsilon, std::min(radius, b.RobinRadius(x, radius)));
         }
       }
       const auto green = equation.Green(radius);
@@ -228,10 +240,21 @@ private:
             ++this->BackHits;
             normal = -normal;
           }
+          const double r = (hit.point - x).norm();
+          double q = 1.0;
           if constexpr (screened)
           {
-            weight *= ScreenedRayWeight<DIM>((hit.point - x).norm(), radius, sqrtC);
+            q = ScreenedRayWeight<DIM>(r, radius, sqrtC);
           }
+          const double mu = b.RobinCoefficient(hit.primitive);
+          if (mu > 0.0)
+          {
+            // WoSt-7: the Robin part's −∫ μ G u joins the ray weight.
+            const double cosine = std::max(normal.dot(v), 1e-300);
+            q -= mu * UnitSphereArea<DIM>() * green.Value(std::max(r, this->MinDistance)) *
+              (DIM == 2 ? r : r * r) / cosine;
+          }
+          weight *= q;
           x = hit.point;
           n = normal;
           onNeumann = true;
@@ -255,17 +278,20 @@ private:
         }
       }
 
-      if constexpr (screened)
+      if (screened || robin)
       {
-        if (weight < kRouletteWeight)
+        // Roulette on |weight|: a Robin weight may fall below 0 where the
+        // radius floor ε overrides RobinRadius.
+        const double magnitude = std::abs(weight);
+        if (magnitude < kRouletteWeight)
         {
-          if (rng.NextDouble() * kRouletteWeight >= weight)
+          if (rng.NextDouble() * kRouletteWeight >= magnitude)
           {
             end = WalkEnd::Terminated;
             hasValue = false;
             break;
           }
-          weight = kRouletteWeight;
+          weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
         }
       }
     }
