@@ -4,8 +4,11 @@
 // three vertices, as raw marching-cubes output often is). Queries uniform in
 // the box, near the surface (down to exactly on a vertex) and far away; every
 // instruction set the CPU supports gives the same bits as the baseline.
+// Walk on stars' silhouette tree on the same meshes, against a loop over
+// every silhouette candidate.
 #include <gridfree/geometry/Bvh.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/stars/SilhouetteTree.h>
 
 #include "vtkCellArray.h"
 #include "vtkFlyingEdges3D.h"
@@ -146,7 +149,76 @@ void CheckAgainstBruteForce(const Triangles& t, int perKind, unsigned seed)
     EXPECT_TRUE(answers == baseline) << gridfree::SimdLevelName(level) << " differs from sse2";
   }
 }
+// The closest silhouette from the tree equals a loop over its candidates,
+// bit for bit, at points in the box, near and on the surface; the surface
+// as given and turned inside out (the domain on the other side).
+void CheckSilhouettesAgainstBruteForce(Triangles t, int queries, unsigned seed)
+{
+  for (int flip = 0; flip < 2; ++flip)
+  {
+    gridfree::SilhouetteTree<3> tree;
+    tree.Build(t.Vertices, t.Faces);
+    ASSERT_GT(tree.NumberOfCandidates(), 100u);
+    gridfree::BoundingBox<3> bounds;
+    for (const Vec3& v : t.Vertices)
+    {
+      bounds.Expand(v);
+    }
+    std::mt19937_64 rng(seed + flip);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int found = 0;
+    for (int q = 0; q < queries; ++q)
+    {
+      const auto& f = t.Faces[rng() % t.Faces.size()];
+      const Vec3 x = q % 2 ? Vec3(bounds.Min + bounds.Extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng))))
+                           : Vec3((t.Vertices[f[0]] + t.Vertices[f[1]] + t.Vertices[f[2]]) / 3.0 +
+                               bounds.Diagonal() * 0.01 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
+      const double rMax = q % 3 ? std::numeric_limits<double>::infinity() : bounds.Diagonal() * u(rng);
+      double best = rMax, best2 = rMax * rMax;
+      for (const auto& c : tree.CandidateList())
+      {
+        const Vec3 p = c.ClosestPoint(x);
+        const double d2 = (x - p).squaredNorm();
+        if (d2 < best2 && gridfree::IsSilhouette(c, x, p, std::sqrt(d2), tree.OnCandidateTolerance()))
+        {
+          best2 = d2;
+          best = std::sqrt(d2);
+        }
+      }
+      ASSERT_EQ(tree.ClosestDistance(x, rMax), best) << "query " << q;
+      found += best < rMax ? 1 : 0;
+    }
+    EXPECT_GT(found, queries / 4);
+    for (auto& face : t.Faces)
+    {
+      std::swap(face[1], face[2]);
+    }
+  }
+}
 } // namespace
+
+TEST(BvhOnCtMeshes, SilhouettesOfTheClosedSkinSurface)
+{
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_skin_iso500_closed.vtp");
+  reader->Update();
+  ASSERT_GT(reader->GetOutput()->GetNumberOfPolys(), 0) << "cannot read the skin surface";
+  CheckSilhouettesAgainstBruteForce(FromPolyData(reader->GetOutput(), false), 200, 3);
+}
+
+TEST(BvhOnCtMeshes, SilhouettesOfTheBoneIsosurfaceAndItsSoup)
+{
+  vtkNew<vtkMetaImageReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_headCT.mhd");
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputConnection(reader->GetOutputPort());
+  contour->SetValue(0, 1150.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  CheckSilhouettesAgainstBruteForce(FromPolyData(contour->GetOutput(), false), 60, 4);
+  CheckSilhouettesAgainstBruteForce(FromPolyData(contour->GetOutput(), true), 30, 5);
+}
 
 TEST(BvhOnCtMeshes, ClosedSkinSurface)
 {
