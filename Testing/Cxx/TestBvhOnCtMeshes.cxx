@@ -17,6 +17,7 @@
 #include "vtkMetaImageReader.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 #include "vtkXMLPolyDataReader.h"
 
 #include <gtest/gtest.h>
@@ -149,6 +150,29 @@ void CheckAgainstBruteForce(const Triangles& t, int perKind, unsigned seed)
     EXPECT_TRUE(answers == baseline) << gridfree::SimdLevelName(level) << " differs from sse2";
   }
 }
+// The bundled closed skin surface.
+vtkSmartPointer<vtkPolyData> SkinSurface()
+{
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_skin_iso500_closed.vtp");
+  reader->Update();
+  return reader->GetOutput();
+}
+
+// A raw bone isosurface of the bundled CT volume (marching-cubes output).
+vtkSmartPointer<vtkPolyData> BoneIsosurface()
+{
+  vtkNew<vtkMetaImageReader> reader;
+  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_headCT.mhd");
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputConnection(reader->GetOutputPort());
+  contour->SetValue(0, 1150.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  return contour->GetOutput();
+}
+
 // The closest silhouette from the tree equals a loop over its candidates,
 // bit for bit, at points in the box, near and on the surface; the surface
 // as given and turned inside out (the domain on the other side).
@@ -199,45 +223,27 @@ void CheckSilhouettesAgainstBruteForce(Triangles t, int queries, unsigned seed)
 
 TEST(BvhOnCtMeshes, SilhouettesOfTheClosedSkinSurface)
 {
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_skin_iso500_closed.vtp");
-  reader->Update();
-  ASSERT_GT(reader->GetOutput()->GetNumberOfPolys(), 0) << "cannot read the skin surface";
-  CheckSilhouettesAgainstBruteForce(FromPolyData(reader->GetOutput(), false), 200, 3);
+  vtkSmartPointer<vtkPolyData> skin = SkinSurface();
+  ASSERT_GT(skin->GetNumberOfPolys(), 0) << "cannot read the skin surface";
+  CheckSilhouettesAgainstBruteForce(FromPolyData(skin, false), 200, 3);
 }
 
 TEST(BvhOnCtMeshes, SilhouettesOfTheBoneIsosurfaceAndItsSoup)
 {
-  vtkNew<vtkMetaImageReader> reader;
-  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_headCT.mhd");
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputConnection(reader->GetOutputPort());
-  contour->SetValue(0, 1150.0);
-  contour->ComputeNormalsOff();
-  contour->ComputeScalarsOff();
-  contour->Update();
-  CheckSilhouettesAgainstBruteForce(FromPolyData(contour->GetOutput(), false), 60, 4);
-  CheckSilhouettesAgainstBruteForce(FromPolyData(contour->GetOutput(), true), 30, 5);
+  vtkSmartPointer<vtkPolyData> bone = BoneIsosurface();
+  CheckSilhouettesAgainstBruteForce(FromPolyData(bone, false), 60, 4);
+  CheckSilhouettesAgainstBruteForce(FromPolyData(bone, true), 30, 5);
 }
 
 TEST(BvhOnCtMeshes, ClosedSkinSurface)
 {
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_skin_iso500_closed.vtp");
-  reader->Update();
-  ASSERT_GT(reader->GetOutput()->GetNumberOfPolys(), 0) << "cannot read the skin surface";
-  CheckAgainstBruteForce(FromPolyData(reader->GetOutput(), false), 60, 1);
+  vtkSmartPointer<vtkPolyData> skin = SkinSurface();
+  ASSERT_GT(skin->GetNumberOfPolys(), 0) << "cannot read the skin surface";
+  CheckAgainstBruteForce(FromPolyData(skin, false), 60, 1);
 }
 
 TEST(BvhOnCtMeshes, RawBoneIsosurfaceSoup)
 {
-  vtkNew<vtkMetaImageReader> reader;
-  reader->SetFileName(GRIDFREE_DATA_DIR "/headsq_headCT.mhd");
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputConnection(reader->GetOutputPort());
-  contour->SetValue(0, 1150.0);
-  contour->ComputeNormalsOff();
-  contour->ComputeScalarsOff();
-  contour->Update();
-  CheckAgainstBruteForce(FromPolyData(contour->GetOutput(), true), 60, 2);
+  vtkSmartPointer<vtkPolyData> bone = BoneIsosurface();
+  CheckAgainstBruteForce(FromPolyData(bone, true), 60, 2);
 }
