@@ -12,6 +12,7 @@
 // sign checks) beside that.
 //
 //   GridFreeCsgBenchmark [walks per point] [points]
+#include "BenchmarkRows.h"
 #include "TestMeshes.h"
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
@@ -34,6 +35,7 @@
 
 using namespace gridfree;
 using namespace gridfree::testing;
+using namespace gridfree::bench;
 
 namespace
 {
@@ -73,46 +75,13 @@ std::shared_ptr<MeshSignedDistance<3>> Operand(const SimplexMesh<3>& mesh, bool 
   return std::make_shared<MeshSignedDistance<3>>(m.Vertices, m.Simplices);
 }
 
-struct Row
-{
-  std::string Name;
-  double WalksPerSecond = 0.0;
-  double StepsPerWalk = 0.0;
-  double Rmse = 0.0;
-  double SetupSeconds = 0.0;
-};
-
-double SecondsSince(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 Row Run(const std::string& name, const Boundary<3>& boundary, const std::vector<Vec3>& points,
   int walks)
 {
   WalkSettings settings;
   settings.Epsilon = 1e-4;
   WalkOnSpheresEstimator<3> estimator(boundary, settings);
-  const auto start = std::chrono::steady_clock::now();
-  double squared = 0.0;
-  WalkCounters total;
-  for (const Vec3& p : points)
-  {
-    const double xyz[3] = { p[0], p[1], p[2] };
-    RunningStatistics stats(1);
-    WalkCounters counters;
-    estimator.EstimatePoint(xyz, 7, 0, walks, stats, counters);
-    const double e = stats.GetMean(0) - Saddle(p);
-    squared += e * e;
-    total.Add(counters);
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  Row row;
-  row.Name = name;
-  row.WalksPerSecond = static_cast<double>(total.Walks) / seconds;
-  row.StepsPerWalk = total.MeanSteps();
-  row.Rmse = std::sqrt(squared / static_cast<double>(points.size()));
-  return row;
+  return RunEstimator(name, estimator, points, walks, Saddle);
 }
 } // namespace
 

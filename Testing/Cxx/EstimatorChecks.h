@@ -25,9 +25,6 @@ namespace gridfree
 {
 namespace testing
 {
-template <int DIM>
-using Field = std::function<double(const Vec<DIM>&)>;
-
 struct Calibration
 {
   double MeanZ2 = 0.0;

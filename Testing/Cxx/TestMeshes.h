@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <utility>
 #include <vector>
@@ -16,6 +17,10 @@ namespace gridfree
 {
 namespace testing
 {
+// A closed-form function of the position (an exact solution, boundary data).
+template <int DIM>
+using Field = std::function<double(const Vec<DIM>&)>;
+
 template <int DIM>
 struct SimplexMesh
 {

@@ -247,7 +247,7 @@ TEST(Problem, ProgressCallbackAborts)
 
 TEST(Problem, RefusesProblemsNoWalkCanSolve)
 {
-  EXPECT_THROW(Problem<3>(nullptr, Laplace(1e-3)), std::invalid_argument);
+  EXPECT_THROW(Problem<3>(std::shared_ptr<const Boundary<3>>(), Laplace(1e-3)), std::invalid_argument);
   EXPECT_THROW(Problem<3>(std::make_shared<const Boundary<3>>(), Laplace(1e-3)),
     std::invalid_argument);
   EXPECT_THROW(Problem<3>(SphereBoundary(), Laplace(0.0)), std::invalid_argument);

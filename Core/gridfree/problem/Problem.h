@@ -21,6 +21,7 @@
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/sources/SourceSet.h>
+#include <gridfree/stars/WalkOnStars.h>
 #include <gridfree/statistics/ErrorBarReliability.h>
 #include <gridfree/statistics/RunningStatistics.h>
 #include <gridfree/statistics/RunningSumsCache.h>
@@ -179,26 +180,57 @@ public:
     , Walk(settings)
     , Sources(std::move(sources))
   {
+    this->Initialize();
+  }
+
+  // A problem with Neumann or Robin conditions on part of the boundary,
+  // solved by walk on stars (WalkOnStars.h): value batches only (a request
+  // for derivatives throws std::invalid_argument). Also throws for what
+  // walk on stars cannot solve (the biharmonic equation; Neumann
+  // conditions alone without screening).
+  Problem(std::shared_ptr<const MixedBoundary<DIM>> mixed, const WalkSettings& settings,
+    std::shared_ptr<const SourceSet<DIM>> sources = nullptr)
+    : Shape(mixed ? (mixed->HasDirichlet() ? mixed->SharedDirichlet() : mixed->SharedReflecting())
+                  : nullptr)
+    , Mixed(std::move(mixed))
+    , Walk(settings)
+    , Sources(std::move(sources))
+  {
+    this->Initialize();
+    // The estimator's own checks, once, here rather than on a worker thread.
+    WalkOnStarsEstimator<DIM> check(*this->Mixed, this->Walk);
+    (void)check;
+  }
+
+  // The mixed boundary of a walk-on-stars problem, or null.
+  const MixedBoundary<DIM>* GetMixedBoundary() const { return this->Mixed.get(); }
+
+private:
+  void Initialize()
+  {
     if (!this->Shape || this->Shape->Empty())
     {
       throw std::invalid_argument("the problem has no boundary");
     }
-    if (!(settings.Epsilon > 0.0))
+    if (!(this->Walk.Epsilon > 0.0))
     {
       throw std::invalid_argument("epsilon must be positive");
     }
-    if (settings.Problem == Equation::Biharmonic && this->Shape->Components() % 2 != 0)
+    if (this->Walk.Problem == Equation::Biharmonic && this->Shape->Components() % 2 != 0)
     {
       throw std::invalid_argument("biharmonic boundary values must hold g and h");
     }
-    if (settings.Problem == Equation::ScreenedPoisson && !(settings.ScreeningCoefficient > 0.0))
+    if (this->Walk.Problem == Equation::ScreenedPoisson && !(this->Walk.ScreeningCoefficient > 0.0))
     {
       throw std::invalid_argument("the screening coefficient must be positive");
     }
-    this->ConstantData =
-      this->Shape->ConstantValues() && (!this->Sources || this->Sources->Empty());
+    // A mixed problem's flux makes its values vary even with constant g.
+    this->ConstantData = !this->Mixed && this->Shape->ConstantValues() &&
+      (!this->Sources || this->Sources->Empty());
     this->BuildSourceDensity();
   }
+
+public:
 
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
   const std::shared_ptr<const Boundary<DIM>>& SharedBoundary() const { return this->Shape; }
@@ -217,6 +249,11 @@ public:
   // Δu for the biharmonic equation) first, then the derivatives asked for.
   SampleLayout Layout(const BatchRequest& request) const
   {
+    if (request.DerivativeWalks() && this->Mixed)
+    {
+      throw std::invalid_argument(
+        "derivatives are not estimated with Neumann or Robin conditions (walk on stars) yet");
+    }
     if (request.DerivativeWalks())
     {
       auto volume = this->MakeVolume();
@@ -228,7 +265,9 @@ public:
     const int nc = this->SolutionComponents();
     layout.Value = 0;
     layout.Laplacian = this->Walk.Problem == Equation::Biharmonic ? nc : -1;
-    layout.Weight = this->Walk.Problem == Equation::ScreenedPoisson ? nc : -1;
+    // Walk on stars' screened walks keep no weight slot (their weights
+    // fall at Neumann and Robin hits as well as on spheres).
+    layout.Weight = this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed ? nc : -1;
     layout.Size = this->Walk.Problem == Equation::Biharmonic ? 2 * nc
       : layout.Weight >= 0                                   ? nc + 1
                                                              : nc;
@@ -424,6 +463,12 @@ public:
             runPoints(estimator);
             bounded = estimator.SourceSupportIsBounded();
           }
+          else if (this->Mixed)
+          {
+            WalkOnStarsEstimator<DIM> estimator(
+              *this->Mixed, this->Walk, volume.get(), this->Concentrated());
+            runPoints(estimator);
+          }
           else
           {
             WalkOnSpheresEstimator<DIM> estimator(
@@ -491,8 +536,15 @@ private:
   std::unique_ptr<VolumeSource<DIM>> MakeVolume() const
   {
     return this->Sources && this->Sources->MakeVolume
-      ? this->Sources->MakeVolume(this->Shape->Diagonal())
+      ? this->Sources->MakeVolume(this->DomainBox().Diagonal())
       : nullptr;
+  }
+
+  // The box of the whole boundary (both parts of a mixed one).
+  BoundingBox<DIM> DomainBox() const
+  {
+    return this->Mixed ? this->Mixed->Bounds()
+                       : BoundingBox<DIM>(this->Shape->BoundsMin(), this->Shape->BoundsMax());
   }
 
   ConcentratedSourceSet<DIM> Concentrated() const
@@ -519,7 +571,7 @@ private:
     {
       return;
     }
-    const BoundingBox<DIM> domain(this->Shape->BoundsMin(), this->Shape->BoundsMax());
+    const BoundingBox<DIM> domain = this->DomainBox();
     BoundingBox<DIM> box = domain;
     Vec<DIM> lo, hi;
     if (volume->SupportBounds(lo, hi))
@@ -720,6 +772,12 @@ private:
             *this->Shape, this->Walk, request.Derivatives, volume.get(), this->Concentrated());
           runBlocks(estimator);
         }
+        else if (this->Mixed)
+        {
+          WalkOnStarsEstimator<DIM> estimator(
+            *this->Mixed, this->Walk, volume.get(), this->Concentrated());
+          runBlocks(estimator);
+        }
         else
         {
           WalkOnSpheresEstimator<DIM> estimator(
@@ -772,7 +830,11 @@ private:
     return completed;
   }
 
+  // The boundary walks end on: the whole one, or a mixed one's Dirichlet
+  // part (its Neumann part when it has none), which gives the values'
+  // components; Mixed is set for walk on stars.
   std::shared_ptr<const Boundary<DIM>> Shape;
+  std::shared_ptr<const MixedBoundary<DIM>> Mixed;
   WalkSettings Walk;
   std::shared_ptr<const SourceSet<DIM>> Sources;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;

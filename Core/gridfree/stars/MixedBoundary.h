@@ -183,6 +183,11 @@ public:
   bool HasDirichlet() const { return static_cast<bool>(this->DirichletPart); }
   bool HasReflecting() const { return static_cast<bool>(this->ReflectingPart); }
   const Boundary<DIM>& Dirichlet() const { return *this->DirichletPart; }
+  const std::shared_ptr<const Boundary<DIM>>& SharedDirichlet() const { return this->DirichletPart; }
+  const std::shared_ptr<const Boundary<DIM>>& SharedReflecting() const
+  {
+    return this->ReflectingPart;
+  }
   const Boundary<DIM>& Reflecting() const { return *this->ReflectingPart; }
   const SilhouetteTree<DIM>& Silhouettes() const { return this->Silhouette; }
   const ReflectingBoundarySampler<DIM>& FluxSampler() const { return this->Sampler; }

@@ -112,6 +112,9 @@ public:
 
   int OutputComponents() const { return this->NumberOfComponents; }
 
+  // Walks stay in the domain, so any source is only ever read inside it.
+  bool SourceSupportIsBounded() const { return true; }
+
   // Rays that met the Neumann part from outside, over this estimator's life:
   // nonzero means the Neumann part is inconsistently oriented or leaks.
   std::uint64_t BackFaceHits() const { return this->BackHits; }

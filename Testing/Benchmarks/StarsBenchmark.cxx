@@ -1,0 +1,141 @@
+// Walk on stars against walk on spheres on the same domains, one thread, in
+// one run: what a Neumann or Robin part costs per walk. Each domain is
+// solved with all of its boundary Dirichlet (walk on spheres, and walk on
+// stars with an empty reflecting part) and with part of it Neumann or
+// Robin (walk on stars); the data come from one harmonic function, so the
+// RMSE against it is printed beside the rate, and the set-up time (the
+// hierarchies, the silhouettes, the sampler) beside that.
+//
+// Domains: an L prism of 2,304 triangles (Testing/Cxx/MixedShapes.h), with
+// the bottom and back faces Dirichlet; and the unit icosphere of 20,480
+// triangles, Dirichlet below z = 0.
+//
+//   GridFreeStarsBenchmark [walks per point] [points]
+#include "BenchmarkRows.h"
+#include "MixedShapes.h"
+#include "TestMeshes.h"
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/stars/WalkOnStars.h>
+#include <gridfree/statistics/RunningStatistics.h>
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+using namespace gridfree::bench;
+
+namespace
+{
+// u = e^{x/2} cos(0.3 y) sin(0.4 z) + x y − z and its gradient.
+double Exact(const Vec3& x)
+{
+  return std::exp(0.5 * x[0]) * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0] * x[1] - x[2];
+}
+Vec3 ExactGradient(const Vec3& x)
+{
+  const double e = std::exp(0.5 * x[0]);
+  return Vec3(0.5 * e * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[1],
+    -0.3 * e * std::sin(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0],
+    0.4 * e * std::cos(0.3 * x[1]) * std::cos(0.4 * x[2]) - 1.0);
+}
+
+// An estimator's row, with the set-up time before it.
+template <class Estimator>
+Row Run(const std::string& name, double setup, Estimator& estimator,
+  const std::vector<Vec3>& points, int walks)
+{
+  Row row = RunEstimator(name, estimator, points, walks, Exact);
+  row.SetupSeconds = setup;
+  return row;
+}
+
+// The three solves of one domain: all Dirichlet by walk on spheres and by
+// walk on stars, then with the reflecting part `robin` decides (μ = 0:
+// Neumann) on the primitives `isDirichlet` leaves.
+std::vector<Row> Domain(const std::string& name, const SimplexMesh<3>& mesh,
+  const std::function<bool(const Vec3&)>& isDirichlet, const RobinRule<3>& robin,
+  const std::vector<Vec3>& points, int walks)
+{
+  std::vector<Row> rows;
+  WalkSettings settings;
+  settings.Epsilon = 1e-4;
+  auto start = std::chrono::steady_clock::now();
+  const MixedBoundary<3> allDirichlet =
+    MakeMixed<3>(mesh, [](const Vec3&) { return true; }, Exact, ExactGradient);
+  double setup = SecondsSince(start);
+  WalkOnSpheresEstimator<3> spheres(allDirichlet.Dirichlet(), settings);
+  rows.push_back(Run(name + ", all Dirichlet: walk on spheres", setup, spheres, points, walks));
+  WalkOnStarsEstimator<3> starsDirichlet(allDirichlet, settings);
+  rows.push_back(Run(name + ", all Dirichlet: walk on stars", setup, starsDirichlet, points, walks));
+  start = std::chrono::steady_clock::now();
+  const MixedBoundary<3> neumann = MakeMixed<3>(mesh, isDirichlet, Exact, ExactGradient);
+  setup = SecondsSince(start);
+  WalkOnStarsEstimator<3> starsNeumann(neumann, settings);
+  rows.push_back(Run(name + ", Neumann part: walk on stars", setup, starsNeumann, points, walks));
+  start = std::chrono::steady_clock::now();
+  const MixedBoundary<3> mixedRobin =
+    MakeMixed<3>(mesh, isDirichlet, Exact, ExactGradient, true, 1.0, robin);
+  setup = SecondsSince(start);
+  WalkOnStarsEstimator<3> starsRobin(mixedRobin, settings);
+  rows.push_back(Run(name + ", Robin part: walk on stars", setup, starsRobin, points, walks));
+  return rows;
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
+  const int walks = argc > 1 ? std::max(1, std::atoi(argv[1])) : 256;
+  const int count = argc > 2 ? std::max(1, std::atoi(argv[2])) : 100;
+
+  std::vector<Row> rows;
+  const Shape<3> prism = LPrism();
+  for (const Row& r : Domain("L prism", prism.Mesh,
+         [](const Vec3& c) { return c[2] < 1e-9 || c[0] < 1e-9; },
+         [](const Vec3& c) { return c[2] > 0.59 ? 1.5 : 0.0; }, PointsInside(prism, count, 1),
+         walks))
+  {
+    rows.push_back(r);
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.9, 0.9);
+  std::vector<Vec3> inSphere;
+  while (static_cast<int>(inSphere.size()) < count)
+  {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    if (p.norm() < 0.9)
+    {
+      inSphere.push_back(p);
+    }
+  }
+  for (const Row& r : Domain("sphere", MakeIcosphere(5), [](const Vec3& c) { return c[2] < 0.0; },
+         [](const Vec3& c) { return c[2] > 0.5 ? 1.5 : 0.0; }, inSphere, walks))
+  {
+    rows.push_back(r);
+  }
+
+  std::printf("Walk on stars against walk on spheres: %d points x %d walks, one thread, "
+              "epsilon 1e-4\n\n", count, walks);
+  std::printf("| domain and solver | set-up s | walks/s | steps/walk | RMSE | time per walk / walk on spheres |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|\n");
+  double reference = 0.0;
+  for (const Row& r : rows)
+  {
+    if (r.Name.find("walk on spheres") != std::string::npos)
+    {
+      reference = r.WalksPerSecond;
+    }
+    std::printf("| %s | %.3f | %.0f | %.1f | %.2e | %.2f |\n", r.Name.c_str(), r.SetupSeconds,
+      r.WalksPerSecond, r.StepsPerWalk, r.Rmse, reference / r.WalksPerSecond);
+  }
+  return 0;
+}
