@@ -36,17 +36,8 @@ using namespace gridfree::bench;
 namespace
 {
 // u = e^{x/2} cos(0.3 y) sin(0.4 z) + x y − z and its gradient.
-double Exact(const Vec3& x)
-{
-  return std::exp(0.5 * x[0]) * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0] * x[1] - x[2];
-}
-Vec3 ExactGradient(const Vec3& x)
-{
-  const double e = std::exp(0.5 * x[0]);
-  return Vec3(0.5 * e * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[1],
-    -0.3 * e * std::sin(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0],
-    0.4 * e * std::cos(0.3 * x[1]) * std::cos(0.4 * x[2]) - 1.0);
-}
+double Exact(const Vec3& x) { return LPrismSolution(x); }
+Vec3 ExactGradient(const Vec3& x) { return LPrismGradient(x); }
 
 // An estimator's row, with the set-up time before it.
 template <class Estimator>
@@ -100,7 +91,7 @@ int main(int argc, char* argv[])
   std::vector<Row> rows;
   const Shape<3> prism = LPrism();
   for (const Row& r : Domain("L prism", prism.Mesh,
-         [](const Vec3& c) { return c[2] < 1e-9 || c[0] < 1e-9; },
+         LPrismDirichlet,
          [](const Vec3& c) { return c[2] > 0.59 ? 1.5 : 0.0; }, PointsInside(prism, count, 1),
          walks))
   {

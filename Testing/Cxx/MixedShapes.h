@@ -11,6 +11,7 @@
 
 #include "BlockShapes.h"
 
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <random>
@@ -50,6 +51,25 @@ inline Shape<2> UShape() { return MakeShape<2>({ { 0, 0 }, { 1, 0 }, { 2, 0 }, {
 inline Shape<3> LPrism()
 {
   return MakeShape<3>({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } }, 8, 0.6);
+}
+
+// The L prism's closed-form solution u = e^{x/2} cos(0.3 y) sin(0.4 z) +
+// x y − z, its gradient, and the faces the tests make Dirichlet (bottom,
+// z = 0, and back, x = 0).
+inline double LPrismSolution(const Vec3& x)
+{
+  return std::exp(0.5 * x[0]) * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0] * x[1] - x[2];
+}
+inline Vec3 LPrismGradient(const Vec3& x)
+{
+  const double e = std::exp(0.5 * x[0]);
+  return Vec3(0.5 * e * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[1],
+    -0.3 * e * std::sin(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0],
+    0.4 * e * std::cos(0.3 * x[1]) * std::cos(0.4 * x[2]) - 1.0);
+}
+inline bool LPrismDirichlet(const Vec3& c)
+{
+  return c[2] < 1e-9 || c[0] < 1e-9;
 }
 
 // Random points inside the shape's cells, at least a tenth of a cell from

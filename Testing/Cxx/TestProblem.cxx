@@ -4,6 +4,7 @@
 // resumably, and stops when its progress callback says so.
 #include <gridfree/problem/Problem.h>
 #include "EstimatorChecks.h"
+#include "MixedShapes.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -243,6 +244,51 @@ TEST(Problem, ProgressCallbackAborts)
   EXPECT_LT(estimates.Summary.WalksRun, points.size() * 100000u);
   // An aborted batch keeps nothing to resume from.
   EXPECT_EQ(kept.KeptWalks(), 0u);
+}
+
+// Walk on stars through the problem: a mixed 3D problem's batch is calibrated, and
+// gives the same bits on 1 and 2 threads, with points spread over threads
+// (many points) and with one point's walks spread in blocks (one point).
+TEST(Problem, WalkOnStarsBatchesAreCalibratedAndThreadIndependent)
+{
+  const Shape<3> l = LPrism();
+  auto mixed = std::make_shared<const MixedBoundary<3>>(MakeMixed<3>(l.Mesh, LPrismDirichlet, LPrismSolution, LPrismGradient));
+  const Problem<3> problem(mixed, Laplace(1e-4));
+  EXPECT_EQ(problem.GetMixedBoundary(), mixed.get());
+  const auto points = PointsInside(l, 200, 6);
+  const auto probe = AsProbe<3>(points);
+  BatchRequest request;
+  request.Seed = 11;
+  // Runs on two threads and on one; both must give the same bits.
+  auto onTwoAndOneThreads = [&](const std::vector<std::array<double, 3>>& at, int walks) {
+    request.WalksPerPoint = walks;
+    request.Threads = 2;
+    const BatchEstimates two = problem.EstimateAll(at, request);
+    request.Threads = 1;
+    const BatchEstimates one = problem.EstimateAll(at, request);
+    EXPECT_EQ(one.Means, two.Means);
+    EXPECT_EQ(one.Variances, two.Variances);
+    return two;
+  };
+  const BatchEstimates two = onTwoAndOneThreads(probe, 128);
+  Calibration c;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const double z = (two.Value(i) - LPrismSolution(points[i])) / std::sqrt(two.ValueVariance(i));
+    c.MeanZ2 += z * z / points.size();
+    c.MaxAbsZ = std::max(c.MaxAbsZ, std::abs(z));
+    ++c.Points;
+  }
+  ExpectCalibrated(c, 200);
+
+  const std::vector<std::array<double, 3>> single(probe.begin(), probe.begin() + 1);
+  onTwoAndOneThreads(single, 640);
+
+  request.Derivatives.Gradient = true;
+  EXPECT_THROW(problem.EstimateAll(single, request), std::invalid_argument);
+  WalkSettings biharmonic = Laplace(1e-4);
+  biharmonic.Problem = Equation::Biharmonic;
+  EXPECT_THROW(Problem<3>(mixed, biharmonic), std::invalid_argument);
 }
 
 TEST(Problem, RefusesProblemsNoWalkCanSolve)

@@ -8,7 +8,6 @@
 // estimators a wrong implementation would give (the flux term dropped,
 // silhouettes ignored) fail the same check.
 #include <gridfree/execution/ParallelExecution.h>
-#include <gridfree/problem/Problem.h>
 #include <gridfree/statistics/RunningStatistics.h>
 #include <gridfree/stars/WalkOnStars.h>
 
@@ -92,18 +91,11 @@ const Gradient<2> kGrad2 = [](const Vec2& x) {
 };
 bool BottomSide2(const Vec2& c) { return c[1] < 1e-9; }
 
-// 3D: u = e^{x/2} cos(0.3 y) sin(0.4 z) + x y − z, Dirichlet on the L's
-// bottom (z = 0) and back (x = 0) faces.
-const Field<3> kU3 = [](const Vec3& x) {
-  return std::exp(0.5 * x[0]) * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0] * x[1] - x[2];
-};
-const Gradient<3> kGrad3 = [](const Vec3& x) {
-  const double e = std::exp(0.5 * x[0]);
-  return Vec3(0.5 * e * std::cos(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[1],
-    -0.3 * e * std::sin(0.3 * x[1]) * std::sin(0.4 * x[2]) + x[0],
-    0.4 * e * std::cos(0.3 * x[1]) * std::cos(0.4 * x[2]) - 1.0);
-};
-bool BottomOrBack3(const Vec3& c) { return c[2] < 1e-9 || c[0] < 1e-9; }
+// 3D: the L prism's solution, Dirichlet on its bottom and back faces
+// (MixedShapes.h).
+const Field<3> kU3 = LPrismSolution;
+const Gradient<3> kGrad3 = LPrismGradient;
+bool BottomOrBack3(const Vec3& c) { return LPrismDirichlet(c); }
 
 WalkSettings Laplace()
 {
@@ -286,52 +278,6 @@ TEST(WalkOnStars, WrongEstimatorsFail)
     RunStars<2>(MakeMixed<2>(u.Mesh, BottomSide2, kU2, kGrad2, false), Laplace(), some, kU2, 4096);
   Report("silhouettes ignored", noSilhouettes);
   EXPECT_TRUE(noSilhouettes.MeanZ2 > 2.0 || noSilhouettes.MaxAbsZ > 5.0);
-}
-
-// Through gridfree::Problem: a mixed 3D problem's batch is calibrated, and
-// gives the same bits on 1 and 2 threads, with points spread over threads
-// (many points) and with one point's walks spread in blocks (one point).
-TEST(WalkOnStars, ProblemBatchesAreCalibratedAndThreadIndependent)
-{
-  const Shape<3> l = LPrism();
-  auto mixed = std::make_shared<const MixedBoundary<3>>(MakeMixed<3>(l.Mesh, BottomOrBack3, kU3, kGrad3));
-  const Problem<3> problem(mixed, Laplace());
-  EXPECT_EQ(problem.GetMixedBoundary(), mixed.get());
-  const auto points = PointsInside(l, 200, 6);
-  const auto probe = AsProbe<3>(points);
-  BatchRequest request;
-  request.Seed = 11;
-  // Runs on two threads and on one; both must give the same bits.
-  auto onTwoAndOneThreads = [&](const std::vector<std::array<double, 3>>& at, int walks) {
-    request.WalksPerPoint = walks;
-    request.Threads = 2;
-    const BatchEstimates two = problem.EstimateAll(at, request);
-    request.Threads = 1;
-    const BatchEstimates one = problem.EstimateAll(at, request);
-    EXPECT_EQ(one.Means, two.Means);
-    EXPECT_EQ(one.Variances, two.Variances);
-    return two;
-  };
-  const BatchEstimates two = onTwoAndOneThreads(probe, 128);
-  Calibration c;
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    const double z = (two.Value(i) - kU3(points[i])) / std::sqrt(two.ValueVariance(i));
-    c.MeanZ2 += z * z / points.size();
-    c.MaxAbsZ = std::max(c.MaxAbsZ, std::abs(z));
-    ++c.Points;
-  }
-  Report("Problem 3D", c);
-  ExpectCalibrated(c, 200);
-
-  const std::vector<std::array<double, 3>> single(probe.begin(), probe.begin() + 1);
-  onTwoAndOneThreads(single, 640);
-
-  request.Derivatives.Gradient = true;
-  EXPECT_THROW(problem.EstimateAll(single, request), std::invalid_argument);
-  WalkSettings biharmonic = Laplace();
-  biharmonic.Problem = Equation::Biharmonic;
-  EXPECT_THROW(Problem<3>(mixed, biharmonic), std::invalid_argument);
 }
 
 TEST(WalkOnStars, RejectsProblemsWithoutAUniqueSolution)
