@@ -17,9 +17,8 @@
 // its inner side, and only its reflex vertices or edges are silhouette
 // candidates. Where orientations disagree along an edge, that edge is kept
 // as a silhouette (stars stay star-shaped there), and a ray that meets a
-// primitive from outside counts as a back-face hit (WalkCounters-like
-// bookkeeping in the estimator): a sign of an inconsistently oriented or
-// leaking surface.
+// primitive from outside is counted (WalkOnStarsEstimator::BackFaceHits):
+// the sign of an inconsistently oriented or leaking surface.
 #ifndef GRIDFREE_STARS_MIXED_BOUNDARY_H
 #define GRIDFREE_STARS_MIXED_BOUNDARY_H
 

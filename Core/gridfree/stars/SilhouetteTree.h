@@ -81,8 +81,9 @@ struct SilhouetteCandidate
   }
 };
 
-// Tolerances of the silhouette test on unit dot products, and the distance
-// (relative to the scene) below which x counts as lying on the candidate.
+// Tolerance of the silhouette test on unit dot products. (The distance below
+// which x counts as on a candidate is the tree's OnCandidateTolerance(),
+// relative to the scene.)
 constexpr double kSilhouetteDotTolerance = 1e-6;
 
 // Whether `c` is a silhouette seen from x, whose distance to it is `d`
