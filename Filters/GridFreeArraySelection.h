@@ -3,7 +3,9 @@
 // algorithm: the problem builder resolves the selections of whichever filter
 // owns it, and the application filters select the arrays they made
 // themselves. Indices: 0 the boundary values g, 1 the biharmonic Laplacian
-// h, 2 the source term, 3 the back side's g of two-sided values.
+// h, 2 the source term, 3 the back side's g of two-sided values, 4 the
+// boundary condition of mixed conditions, 5 their Neumann flux h, 6 their
+// Robin coefficient μ.
 // Private to the GridFree::Filters module.
 #ifndef GridFreeArraySelection_h
 #define GridFreeArraySelection_h
@@ -27,7 +29,7 @@ struct ArraySelection
 
 struct ArraySelections
 {
-  static constexpr int Count = 4;
+  static constexpr int Count = 7;
   std::array<ArraySelection, Count> Index;
 
   // The selections made on `algorithm` with SetInputArrayToProcess.

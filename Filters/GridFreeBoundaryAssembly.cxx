@@ -3,6 +3,7 @@
 #include "GridFreeBoundaryConversion.h"
 #include "GridFreeCsgBoundary.h"
 #include "GridFreeImplicitBoundary.h"
+#include "GridFreeMixedBoundaryConversion.h"
 #include "GridFreeProblemInputs.h"
 #include "GridFreeSourceConversion.h"
 
@@ -321,8 +322,58 @@ bool AssembleBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
   return true;
 }
 
+template <int DIM>
+bool AssembleMixedBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
+  MixedBoundary<DIM>& mixed)
+{
+  vtkObject* self = reporter;
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction;
+  if (!in.ValueExpressions.empty())
+  {
+    valueFunction = std::make_shared<VolumeBoundaryValues<DIM>>(
+      MakeExpressionListFactory<DIM>(in.ValueExpressions, ProblemPlaneZ<DIM>(in)),
+      static_cast<int>(in.ValueExpressions.size()));
+  }
+  MixedBoundaryArrays arrays;
+  arrays.Values = in.Values;
+  arrays.ValuesOnCells = in.CellData;
+  arrays.Conditions = in.Conditions;
+  arrays.ConditionsOnCells = in.ConditionsOnCells;
+  arrays.Flux = in.Flux;
+  arrays.FluxOnCells = in.FluxOnCells;
+  arrays.Robin = in.Robin;
+  arrays.RobinOnCells = in.RobinOnCells;
+  BoundaryConversionReport report;
+  MixedBoundaryCounts counts;
+  std::string reason;
+  if (!ConvertMixedBoundary<DIM>(in.Boundary, arrays, valueFunction, mixed, report, counts, reason,
+        BuildingProgress(self)))
+  {
+    vtkErrorWithObjectMacro(self, << "Cannot use the Boundary input with mixed boundary "
+                                     "conditions: "
+                                  << reason << ".");
+    return false;
+  }
+  BoundaryAssembly<DIM>::ReportDroppedCells(
+    self, report.IgnoredLowerDimensionalCells, report.SkippedCells, report.DegenerateCells);
+  if (counts.Neumann + counts.Robin == 0)
+  {
+    vtkWarningWithObjectMacro(self, << "Mixed Boundary Conditions is on, but the boundary "
+                                       "condition array marks no cell Neumann (1) or Robin (2): "
+                                       "every cell is Dirichlet.");
+  }
+  vtkDebugWithObjectMacro(self, << "Mixed boundary: " << counts.Dirichlet << " Dirichlet, "
+                                << counts.Neumann << " Neumann and " << counts.Robin
+                                << " Robin primitives.");
+  return true;
+}
+
 template double ProblemPlaneZ<2>(const gridfree::ProblemInputs&);
 template double ProblemPlaneZ<3>(const gridfree::ProblemInputs&);
 template bool AssembleBoundary<2>(vtkObject*, const gridfree::ProblemInputs&, Boundary<2>&);
 template bool AssembleBoundary<3>(vtkObject*, const gridfree::ProblemInputs&, Boundary<3>&);
+template bool AssembleMixedBoundary<2>(
+  vtkObject*, const gridfree::ProblemInputs&, MixedBoundary<2>&);
+template bool AssembleMixedBoundary<3>(
+  vtkObject*, const gridfree::ProblemInputs&, MixedBoundary<3>&);
 } // namespace gridfree

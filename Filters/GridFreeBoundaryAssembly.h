@@ -9,6 +9,7 @@
 #define GridFreeBoundaryAssembly_h
 
 #include <gridfree/boundary/Boundary.h>
+#include <gridfree/stars/MixedBoundary.h>
 
 class vtkObject;
 namespace gridfree
@@ -24,6 +25,13 @@ template <int DIM>
 bool AssembleBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
   Boundary<DIM>& geometry);
 
+// Builds the mixed boundary of walk on stars from the mesh, its values and
+// its condition, flux and Robin arrays (in.Mixed); false after an error
+// message.
+template <int DIM>
+bool AssembleMixedBoundary(vtkObject* reporter, const gridfree::ProblemInputs& in,
+  MixedBoundary<DIM>& mixed);
+
 // The plane of a 2D problem (the boundary's z), where expressions and
 // sources are sampled; 0 for a 3D one.
 template <int DIM>
@@ -31,6 +39,10 @@ double ProblemPlaneZ(const gridfree::ProblemInputs& in);
 
 extern template bool AssembleBoundary<2>(vtkObject*, const gridfree::ProblemInputs&, Boundary<2>&);
 extern template bool AssembleBoundary<3>(vtkObject*, const gridfree::ProblemInputs&, Boundary<3>&);
+extern template bool AssembleMixedBoundary<2>(
+  vtkObject*, const gridfree::ProblemInputs&, MixedBoundary<2>&);
+extern template bool AssembleMixedBoundary<3>(
+  vtkObject*, const gridfree::ProblemInputs&, MixedBoundary<3>&);
 extern template double ProblemPlaneZ<2>(const gridfree::ProblemInputs&);
 extern template double ProblemPlaneZ<3>(const gridfree::ProblemInputs&);
 } // namespace gridfree

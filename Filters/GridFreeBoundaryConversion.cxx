@@ -343,37 +343,26 @@ std::string DegenerateNote(long long degenerate)
     ? " (" + std::to_string(degenerate) + " degenerate ones of zero length or area were dropped)"
     : std::string();
 }
-} // namespace
 
-const char* const BezierControlPointsArrayName = "BezierControlPoints";
-
-
+// The cells of the right kind as primitives (polygons and strips
+// triangulated; lines as segments), each with the input cell it came from,
+// without degenerate ones. A 2D boundary with Bézier polylines fills
+// `curves` instead (an error when it is null).
 template <int DIM>
-bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
-  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
-  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction,
-  const std::function<void(double)>& whileBuilding)
+bool CollectCells(vtkPolyData* boundary, BoundaryCells<DIM>& cells,
+  BoundaryConversionReport& report, std::string& reason, std::vector<LinePiece>* curves)
 {
   using Primitive = typename Boundary<DIM>::Primitive;
-  // The VTK-free end of the conversion, on a thread of its own when the
-  // caller reports progress meanwhile.
-  auto build = [&whileBuilding](const std::function<void()>& work) {
-    if (whileBuilding)
-    {
-      RunWhileReporting(work, whileBuilding);
-    }
-    else
-    {
-      work();
-    }
-  };
   if (!AllPointIdsValid(boundary, reason))
   {
     return false;
   }
-  std::vector<Primitive> primitives;
-  std::vector<vtkIdType> sourceCell; // the input cell each primitive came from
-  std::vector<Vec<DIM>> vertices = ConvertPoints<DIM>(boundary->GetPoints());
+  std::vector<Primitive>& primitives = cells.Primitives;
+  std::vector<vtkIdType>& sourceCell = cells.SourceCell;
+  std::vector<Vec<DIM>>& vertices = cells.Vertices;
+  vertices = ConvertPoints<DIM>(boundary->GetPoints());
+  primitives.clear();
+  sourceCell.clear();
   const char* const nothingLeft =
     DIM == 2 ? "the boundary has no line segments" : "the boundary has no triangles";
 
@@ -422,8 +411,14 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
     }
     if (anyCurve)
     {
-      return ConvertBezierBoundary(
-        values, cellData, vertices, pieces, out, reason, std::move(valueFunction));
+      if (!curves)
+      {
+        reason = "it has Bézier curves (cell array " + std::string(BezierControlPointsArrayName) +
+          "), and only straight segments are taken here";
+        return false;
+      }
+      *curves = std::move(pieces);
+      return true;
     }
     for (const LinePiece& piece : pieces)
     {
@@ -543,6 +538,56 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
     }
   }
 
+  return true;
+}
+} // namespace
+
+const char* const BezierControlPointsArrayName = "BezierControlPoints";
+
+template <int DIM>
+bool CollectBoundaryCells(vtkPolyData* boundary, BoundaryCells<DIM>& cells,
+  BoundaryConversionReport& report, std::string& reason)
+{
+  return CollectCells<DIM>(boundary, cells, report, reason, nullptr);
+}
+
+template <int DIM>
+bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
+  Boundary<DIM>& out, BoundaryConversionReport& report, std::string& reason,
+  std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction,
+  const std::function<void(double)>& whileBuilding)
+{
+  using Primitive = typename Boundary<DIM>::Primitive;
+  // The VTK-free end of the conversion, on a thread of its own when the
+  // caller reports progress meanwhile.
+  auto build = [&whileBuilding](const std::function<void()>& work) {
+    if (whileBuilding)
+    {
+      RunWhileReporting(work, whileBuilding);
+    }
+    else
+    {
+      work();
+    }
+  };
+  BoundaryCells<DIM> cells;
+  std::vector<LinePiece> curves;
+  if (!CollectCells<DIM>(boundary, cells, report, reason, &curves))
+  {
+    return false;
+  }
+  std::vector<Vec<DIM>>& vertices = cells.Vertices;
+  std::vector<Primitive>& primitives = cells.Primitives;
+  std::vector<vtkIdType>& sourceCell = cells.SourceCell;
+  if constexpr (DIM == 2)
+  {
+    if (!curves.empty())
+    {
+      return ConvertBezierBoundary(
+        values, cellData, vertices, curves, out, reason, std::move(valueFunction));
+    }
+  }
+
   // Only cell data needs each primitive's source cell; free it before the
   // hierarchy is built, when memory peaks.
   if (!cellData || valueFunction)
@@ -593,6 +638,10 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   return true;
 }
 
+template bool CollectBoundaryCells<2>(
+  vtkPolyData*, BoundaryCells<2>&, BoundaryConversionReport&, std::string&);
+template bool CollectBoundaryCells<3>(
+  vtkPolyData*, BoundaryCells<3>&, BoundaryConversionReport&, std::string&);
 template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
   BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>,
   const std::function<void(double)>&);

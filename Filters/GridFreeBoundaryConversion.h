@@ -19,9 +19,12 @@
 
 #include <gridfree/boundary/Boundary.h>
 
+#include "vtkType.h"
+
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 class vtkDataArray;
 class vtkPolyData;
@@ -48,6 +51,23 @@ extern const char* const BezierControlPointsArrayName;
 // has only lines that all lie in one z-plane, 0 (with a reason) otherwise.
 int DetectBoundaryDimension(vtkPolyData* boundary, std::string& reason);
 
+// A boundary's cells as the core's primitives, before any values.
+template <int DIM>
+struct BoundaryCells
+{
+  std::vector<Vec<DIM>> Vertices; // the input's points, all of them, in order
+  std::vector<typename Boundary<DIM>::Primitive> Primitives;
+  std::vector<vtkIdType> SourceCell; // the input cell each primitive came from
+};
+
+// The cells of the right kind (3D: polygons, triangulated, and strips; 2D:
+// line segments) as primitives, without degenerate ones (counted in
+// `report`). False with a reason when nothing usable is left, a point id or
+// coordinate is invalid, or a 2D boundary has Bézier curves.
+template <int DIM>
+bool CollectBoundaryCells(vtkPolyData* boundary, BoundaryCells<DIM>& cells,
+  BoundaryConversionReport& report, std::string& reason);
+
 // Fills `out` from the boundary's cells of the right kind and `values`
 // (`cellData` tells whether values are per cell), or, when `valueFunction` is
 // given, with values from that function instead (`values` is then unused).
@@ -62,6 +82,10 @@ bool ConvertBoundary(vtkPolyData* boundary, vtkDataArray* values, bool cellData,
   std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction = nullptr,
   const std::function<void(double)>& whileBuilding = nullptr);
 
+extern template bool CollectBoundaryCells<2>(
+  vtkPolyData*, BoundaryCells<2>&, BoundaryConversionReport&, std::string&);
+extern template bool CollectBoundaryCells<3>(
+  vtkPolyData*, BoundaryCells<3>&, BoundaryConversionReport&, std::string&);
 extern template bool ConvertBoundary<2>(vtkPolyData*, vtkDataArray*, bool, Boundary<2>&,
   BoundaryConversionReport&, std::string&, std::shared_ptr<const BoundaryValueFunction<2>>,
   const std::function<void(double)>&);

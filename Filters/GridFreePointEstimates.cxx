@@ -67,11 +67,14 @@ std::string DescribeDuration(double seconds)
 
 template <int DIM>
 bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, vtkPointData* pd, vtkFieldData* fd,
+  const std::vector<std::array<double, 3>>& probePoints, vtkPointData* pd, vtkFieldData* fd,
   const PointEstimateRun& run, PointEstimateSummary& result)
 {
   const Problem<DIM>& problem = built.Get<DIM>();
   const Boundary<DIM>& geometry = problem.GetBoundary();
+  // Walk on stars: the reflecting part counts for the distance; the closest
+  // boundary value is the Dirichlet part's (NaN without one).
+  const MixedBoundary<DIM>* mixed = problem.GetMixedBoundary();
   const bool biharmonic = built.Biharmonic;
   const int nc = built.Components;
   auto warn = [&run](const std::string& text)
@@ -108,14 +111,14 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
                   << "' instead (its variance '" << name << "_Variance'), and the probe's array is kept.");
   }
 
-  const auto numPoints = static_cast<vtkIdType>(points.size());
+  const auto numPoints = static_cast<vtkIdType>(probePoints.size());
   vtkIdType nonFinitePoints = 0;
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     bool finite = true;
     for (int k = 0; k < DIM; ++k)
     {
-      finite = finite && std::isfinite(points[i][k]);
+      finite = finite && std::isfinite(probePoints[i][k]);
     }
     nonFinitePoints += finite ? 0 : 1;
   }
@@ -125,6 +128,37 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
                   << " probe points have NaN or infinite coordinates: their "
                      "results are NaN.");
   }
+  // Walk on stars solves inside the closed boundary only (the reflecting
+  // part's normals say which side the domain is on): points outside it are
+  // left out, with NaN results, rather than given an exterior problem's
+  // answer with the wrong orientation.
+  std::vector<std::array<double, 3>> insidePoints;
+  std::atomic<vtkIdType> outsidePoints{ 0 };
+  if (mixed)
+  {
+    insidePoints = probePoints;
+    tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, numPoints, 256),
+      [&](const tbb::blocked_range<vtkIdType>& range) {
+        for (vtkIdType i = range.begin(); i < range.end(); ++i)
+        {
+          auto& p = insidePoints[static_cast<std::size_t>(i)];
+          Vec<DIM> x;
+          if (ProbeStartPoint<DIM>(p.data(), x) && !mixed->Inside(x))
+          {
+            p.fill(std::numeric_limits<double>::quiet_NaN());
+            outsidePoints.fetch_add(1, std::memory_order_relaxed);
+          }
+        }
+      });
+    if (outsidePoints.load() > 0)
+    {
+      GRIDFREE_WARN(<< outsidePoints.load() << " of " << numPoints
+                    << " probe points lie outside the closed boundary: mixed boundary "
+                       "conditions (walk on stars) solve the interior problem only, so their "
+                       "results are NaN (field data OutsidePoints).");
+    }
+  }
+  const std::vector<std::array<double, 3>>& points = mixed ? insidePoints : probePoints;
 
   auto mean = MakeArray(name, nc, numPoints);
   auto variance = MakeArray(name + "_Variance", nc, numPoints);
@@ -164,8 +198,20 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
         Vec<DIM> x;
         if (ProbeStartPoint<DIM>(points[static_cast<std::size_t>(i)].data(), x))
         {
-          distance->SetValue(i, geometry.Distance(x));
-          geometry.Evaluate(x, geometry.ClosestPoint(x), g.data());
+          double d = geometry.Distance(x);
+          if (mixed && mixed->HasReflecting())
+          {
+            d = std::min(d, mixed->Reflecting().Distance(x));
+          }
+          distance->SetValue(i, d);
+          if (mixed && !mixed->HasDirichlet())
+          {
+            std::fill(g.begin(), g.end(), std::numeric_limits<double>::quiet_NaN());
+          }
+          else
+          {
+            geometry.Evaluate(x, geometry.ClosestPoint(x), g.data());
+          }
           for (int c = 0; c < nc; ++c)
           {
             closestValue->SetTypedComponent(i, c, g[static_cast<std::size_t>(c)]);
@@ -179,7 +225,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   DerivativeRequest request;
   request.Gradient = s.ComputeGradient;
   request.Hessian = s.ComputeHessian;
-  request.ControlVariates = s.ControlVariates;
+  // Control variates need the gradient, which walk on stars does not
+  // estimate yet.
+  request.ControlVariates = s.ControlVariates && !mixed;
   request.Directional = s.ComputeDirectionalDerivative;
   request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
     s.DerivativeDirection[2] };
@@ -368,6 +416,11 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     AddFieldValue(fd, "MeanStepsPerWalk", meanSteps);
     AddFieldValue(fd, "EscapedWalkFraction", escapedFraction);
     AddFieldValue(fd, "UnreliableErrorBars", static_cast<double>(summary.UnreliableErrorBars));
+    if (mixed)
+    {
+      AddFieldValue(fd, "BackFaceHits", static_cast<double>(summary.BackFaceHits));
+      AddFieldValue(fd, "OutsidePoints", static_cast<double>(outsidePoints.load()));
+    }
   }
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
   // Debug level: shown in ParaView's Output Messages when the filter's
@@ -384,6 +437,15 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       "GridFreePointEstimates.cxx", __LINE__, msg.str().c_str(), self);
   }
 
+  if (summary.BackFaceHits > 0 && startWalks == 0)
+  {
+    GRIDFREE_WARN(<< summary.BackFaceHits
+                  << " walks met a Neumann or Robin cell from outside the domain (field data "
+                     "BackFaceHits): those cells' normals must point out of the domain, and the "
+                     "boundary must be closed around the probe. Check their orientation (e.g. "
+                     "ParaView's Generate Surface Normals with Consistency and Auto Orient) and "
+                     "leaks; results near them are wrong.");
+  }
   if (!completed)
   {
     GRIDFREE_WARN(<< "Solve aborted: points not reached are NaN.");
@@ -448,7 +510,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   }
   // NaN results of finite probe points: walks whose coordinates overflowed
   // (points far beyond the boundary's scale) end with no boundary value.
-  vtkIdType nanResults = -nonFinitePoints;
+  vtkIdType nanResults = -nonFinitePoints - outsidePoints.load();
   for (vtkIdType i = 0; i < numPoints; ++i)
   {
     nanResults += std::isnan(mean->GetValue(i * nc)) ? 1 : 0;

@@ -15,6 +15,7 @@
 #include "vtkDataSet.h"
 #include "vtkImplicitFunction.h"
 #include "vtkNew.h"
+#include "vtkCellData.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
@@ -54,6 +55,71 @@ double ValueRangeOf(const ProblemInputs& in, int nc, bool biharmonic)
   }
   return hi >= lo ? hi - lo : std::numeric_limits<double>::quiet_NaN();
 }
+
+// The arrays of mixed boundary conditions on the boundary mesh: the
+// condition (selection 4, needed), the Neumann flux (5) and the Robin
+// coefficient (6), each a point or cell array; false after an error.
+bool ResolveMixedArrays(vtkObject* self, const ArraySelections& arrays, vtkPolyData* boundary,
+  vtkDataArray* values, ProblemInputs& inputs)
+{
+  // ParaView's "None" entry of an optional array list.
+  auto none = [&](int index) {
+    const ArraySelection& s = arrays.Index[static_cast<std::size_t>(index)];
+    return !s.Selected ||
+      (s.Name == "None" && !boundary->GetPointData()->GetAbstractArray("None") &&
+        !boundary->GetCellData()->GetAbstractArray("None"));
+  };
+  const char* const labels[] = { "boundary condition", "Neumann flux", "Robin coefficient" };
+  vtkDataArray* found[3] = { nullptr, nullptr, nullptr };
+  bool onCells[3] = { true, false, true };
+  for (int k = 0; k < 3; ++k)
+  {
+    const int index = 4 + k;
+    if (none(index))
+    {
+      continue;
+    }
+    int association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+    std::string reason;
+    found[k] = arrays.Resolve(index, boundary, false, association, reason);
+    if (!found[k])
+    {
+      vtkErrorWithObjectMacro(self, << "Cannot use the " << labels[k] << " array: "
+                                    << (reason.empty() ? "it is not on the Boundary input" : reason)
+                                    << ".");
+      return false;
+    }
+    if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS &&
+      association != vtkDataObject::FIELD_ASSOCIATION_CELLS)
+    {
+      vtkErrorWithObjectMacro(self, << "The " << labels[k] << " array must be point or cell data "
+                                       "of the Boundary input.");
+      return false;
+    }
+    onCells[k] = association == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+  }
+  if (!found[0])
+  {
+    vtkErrorWithObjectMacro(self, << "Mixed Boundary Conditions is on, but no Boundary Condition "
+                                     "Array is selected: choose a point or cell array of the "
+                                     "Boundary input holding 0 (Dirichlet), 1 (Neumann) or 2 "
+                                     "(Robin) (SetInputArrayToProcess(4, ...)).");
+    return false;
+  }
+  if (found[0] == values)
+  {
+    vtkWarningWithObjectMacro(self, << "The boundary condition array is also the boundary "
+                                       "values' array: check the selections.");
+  }
+  inputs.Mixed = true;
+  inputs.Conditions = found[0];
+  inputs.ConditionsOnCells = onCells[0];
+  inputs.Flux = found[1];
+  inputs.FluxOnCells = onCells[1];
+  inputs.Robin = found[2];
+  inputs.RobinOnCells = onCells[2];
+  return true;
+}
 } // namespace
 
 struct ProblemBuilder::Internals
@@ -70,6 +136,9 @@ struct ProblemBuilder::Internals
   std::vector<std::uint64_t> BoundaryKey;
   std::shared_ptr<const Boundary<2>> Boundary2;
   std::shared_ptr<const Boundary<3>> Boundary3;
+  // The same for mixed boundary conditions.
+  std::shared_ptr<const MixedBoundary<2>> Mixed2;
+  std::shared_ptr<const MixedBoundary<3>> Mixed3;
 
   template <int DIM>
   std::shared_ptr<const Boundary<DIM>>& CachedBoundary()
@@ -81,6 +150,19 @@ struct ProblemBuilder::Internals
     else
     {
       return this->Boundary3;
+    }
+  }
+
+  template <int DIM>
+  std::shared_ptr<const MixedBoundary<DIM>>& CachedMixed()
+  {
+    if constexpr (DIM == 2)
+    {
+      return this->Mixed2;
+    }
+    else
+    {
+      return this->Mixed3;
     }
   }
 
@@ -103,7 +185,7 @@ struct ProblemBuilder::Internals
       key.push_back(~std::uint64_t(0));
     }
     // The arrays selected for g, h and the back side's g.
-    for (int idx : { 0, 1, 3 })
+    for (int idx : { 0, 1, 3, 4, 5, 6 })
     {
       const ArraySelection& s = arrays.Index[static_cast<std::size_t>(idx)];
       addString(s.Name);
@@ -118,6 +200,7 @@ struct ProblemBuilder::Internals
     addString(in.Name);
     key.push_back(in.CellData ? 1 : 0);
     key.push_back(in.TwoSided ? 1 : 0);
+    key.push_back(in.Mixed ? 1 : 0);
     // The values hold g and h.
     key.push_back(this->Settings.Equation == vtkWalkOnSpheresSolver::BIHARMONIC ? 1 : 0);
     key.push_back(static_cast<std::uint64_t>(in.CsgOperation));
@@ -151,6 +234,8 @@ void ProblemBuilder::Forget()
   this->Internal->BoundaryKey.clear();
   this->Internal->Boundary2.reset();
   this->Internal->Boundary3.reset();
+  this->Internal->Mixed2.reset();
+  this->Internal->Mixed3.reset();
 }
 
 bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
@@ -305,6 +390,35 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
     }
   }
 
+  if (settings.MixedBoundaryConditions)
+  {
+    // Walk on stars: the reflecting part must be a mesh whose orientation
+    // is known, and only values are estimated so far.
+    const char* unsupported = csg ? "a CSG boundary"
+      : implicit                  ? "an implicit boundary"
+      : settings.TwoSidedBoundaryValues ? "two-sided boundary values"
+      : biharmonicEquation        ? "the biharmonic equation"
+                                  : nullptr;
+    if (unsupported)
+    {
+      vtkErrorWithObjectMacro(self, << "Mixed boundary conditions (walk on stars) are not "
+                                       "available with "
+                                    << unsupported
+                                    << ": they need a mesh boundary and the Laplace, Poisson or "
+                                       "screened Poisson equation.");
+      return false;
+    }
+    if (settings.ComputeGradient || settings.ComputeHessian ||
+      settings.ComputeDirectionalDerivative)
+    {
+      vtkErrorWithObjectMacro(self, << "Mixed boundary conditions (walk on stars) estimate the "
+                                       "solution only, not yet its derivatives: turn off "
+                                       "Compute Gradient, Compute Hessian and Compute "
+                                       "Directional Derivative (or Mixed Boundary Conditions).");
+      return false;
+    }
+  }
+
   int dimension = 3;
   std::string name = "Solution";
   bool cellData = false;
@@ -320,6 +434,12 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
   }
   else if (!BoundaryValuesOfBoundary(context, boundary, implicit, expressionValues, dimension,
              name, state.Values, cellData))
+  {
+    return false;
+  }
+
+  if (settings.MixedBoundaryConditions &&
+    !ResolveMixedArrays(self, arrays, boundary, state.Values, inputs))
   {
     return false;
   }
@@ -393,24 +513,42 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
 {
   const ProblemInputs& in = this->Inputs;
   std::shared_ptr<const Boundary<DIM>>& cached = this->CachedBoundary<DIM>();
-  if (!cached || this->BoundaryKey != in.BoundaryKey)
+  std::shared_ptr<const MixedBoundary<DIM>>& cachedMixed = this->CachedMixed<DIM>();
+  if ((in.Mixed ? !cachedMixed : !cached) || this->BoundaryKey != in.BoundaryKey)
   {
     builder.Forget(); // frees the old hierarchy before building
-    auto built = std::make_shared<Boundary<DIM>>();
-    if (!AssembleBoundary<DIM>(self, in, *built))
+    if (in.Mixed)
     {
-      return false;
+      auto built = std::make_shared<MixedBoundary<DIM>>();
+      if (!AssembleMixedBoundary<DIM>(self, in, *built))
+      {
+        return false;
+      }
+      cachedMixed = built;
     }
-    cached = built;
+    else
+    {
+      auto built = std::make_shared<Boundary<DIM>>();
+      if (!AssembleBoundary<DIM>(self, in, *built))
+      {
+        return false;
+      }
+      cached = built;
+    }
     this->BoundaryKey = in.BoundaryKey;
     builder.LastBoundaryBuilt = true;
   }
-  const std::shared_ptr<const Boundary<DIM>> shared = cached;
+  // A mixed problem's Dirichlet part (its reflecting part when it has none)
+  // stands for its boundary where one part is asked for.
+  const std::shared_ptr<const MixedBoundary<DIM>> mixed = in.Mixed ? cachedMixed : nullptr;
+  const std::shared_ptr<const Boundary<DIM>> shared = !mixed ? cached
+    : mixed->HasDirichlet()                                  ? mixed->SharedDirichlet()
+                                                             : mixed->SharedReflecting();
   const Boundary<DIM>& geometry = *shared;
   const SolveSettings& s = this->Settings;
 
   WalkSettings settings;
-  const double diagonal = geometry.Diagonal();
+  const double diagonal = mixed ? mixed->Diagonal() : geometry.Diagonal();
   settings.Epsilon = s.EpsilonIsRelative ? s.Epsilon * diagonal : s.Epsilon;
   if (!(settings.Epsilon > 0.0))
   {
@@ -468,7 +606,17 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   out.Name = in.Name;
   out.Components = nc;
   out.Biharmonic = biharmonic;
-  auto problem = std::make_shared<const Problem<DIM>>(shared, settings, sources);
+  if (mixed && !mixed->HasDirichlet() && !mixed->HasRobin() &&
+    settings.Problem != Equation::ScreenedPoisson)
+  {
+    vtkErrorWithObjectMacro(self, << "Every boundary cell has the Neumann condition: the Laplace "
+                                     "and Poisson equations then have no unique solution (any "
+                                     "constant can be added to one). Mark some cells Dirichlet "
+                                     "(0) or Robin (2), or use the screened Poisson equation.");
+    return false;
+  }
+  auto problem = mixed ? std::make_shared<const Problem<DIM>>(mixed, settings, sources)
+                       : std::make_shared<const Problem<DIM>>(shared, settings, sources);
   if constexpr (DIM == 2)
   {
     out.Problem2 = problem;

@@ -34,6 +34,15 @@ struct ProblemInputs
   vtkDataArray* Values = nullptr; // g, or g and h side by side (biharmonic)
   bool CellData = false;
   bool TwoSided = false; // Values holds the front's then the back's g
+  // Mixed conditions (walk on stars): the condition per cell or point, the
+  // Neumann flux (null: 0) and the Robin coefficient (null: no Robin cells).
+  bool Mixed = false;
+  vtkDataArray* Conditions = nullptr;
+  bool ConditionsOnCells = true;
+  vtkDataArray* Flux = nullptr;
+  bool FluxOnCells = false;
+  vtkDataArray* Robin = nullptr;
+  bool RobinOnCells = true;
 
   vtkDataSet* Source = nullptr;
   vtkDataArray* SourceArray = nullptr;

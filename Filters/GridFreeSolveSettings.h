@@ -27,6 +27,9 @@ struct SolveSettings
   std::string BoundaryValueExpression;
   std::string BoundaryLaplacianExpression;
   bool TwoSidedBoundaryValues = false;
+  // Neumann and Robin conditions on the cells that the boundary condition
+  // array (selection 4) marks 1 or 2: walk on stars.
+  bool MixedBoundaryConditions = false;
 
   // The equation and its sources.
   int Equation = 0; // LAPLACE

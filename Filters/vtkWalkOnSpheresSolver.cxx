@@ -334,6 +334,7 @@ gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
   s.BoundaryLaplacianExpression =
     this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "";
   s.TwoSidedBoundaryValues = this->TwoSidedBoundaryValues;
+  s.MixedBoundaryConditions = this->MixedBoundaryConditions;
   s.Equation = this->Equation;
   s.ScreeningCoefficient = this->ScreeningCoefficient;
   s.SourceExpression = this->SourceExpression ? this->SourceExpression : "";
@@ -541,6 +542,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryLaplacianExpression: "
      << (this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "(none)") << "\n";
   os << indent << "TwoSidedBoundaryValues: " << this->TwoSidedBoundaryValues << "\n";
+  os << indent << "MixedBoundaryConditions: " << this->MixedBoundaryConditions << "\n";
   os << indent << "Equation: " << this->Equation << "\n";
   os << indent << "ScreeningCoefficient: " << this->ScreeningCoefficient << "\n";
   os << indent << "SourceExpression: "

@@ -259,6 +259,37 @@ public:
   vtkBooleanMacro(TwoSidedBoundaryValues, bool);
   ///@}
 
+  ///@{
+  /**
+   * Mixed boundary conditions (default off): Neumann and Robin conditions on
+   * part of a mesh boundary, solved by walk on stars (Sawhney, Miller,
+   * Gkioulekas and Crane 2023; Documentation/WalkOnStars.md). The boundary
+   * condition array, SetInputArrayToProcess(4, 0, 0, association, name),
+   * gives each cell (or point) a condition:
+   * - 0 Dirichlet: u = g, the boundary values of SetInputArrayToProcess(0, ...);
+   * - 1 Neumann: ∂u/∂n = h, with n the outward normal and h the Neumann flux
+   *   array, SetInputArrayToProcess(5, ...) (as many components as g; no
+   *   selection: h = 0, an insulated or reflecting wall);
+   * - 2 Robin: ∂u/∂n + μu = h, with μ >= 0 the Robin coefficient array,
+   *   SetInputArrayToProcess(6, ...) (one component).
+   * A condition given per point applies to a cell when all its points agree;
+   * otherwise the smallest wins (a cell is Neumann only if all its points
+   * are). Neumann and Robin cells must be oriented with outward normals
+   * (counter-clockwise seen from outside; in 2D the domain on the left of
+   * every line): the field data BackFaceHits counts walks that met them from
+   * the other side, the sign of a wrong orientation or a leak. Laplace,
+   * Poisson and screened Poisson equations, values only: not the biharmonic
+   * equation, gradients, Hessians, directional derivatives, implicit, CSG or
+   * two-sided boundaries, or Bézier curves. With Neumann cells alone the
+   * Laplace and Poisson equations have no unique solution: some cells must be
+   * Dirichlet or Robin (or the equation screened). The name "None" for the
+   * flux or Robin selection means no array.
+   */
+  vtkSetMacro(MixedBoundaryConditions, bool);
+  vtkGetMacro(MixedBoundaryConditions, bool);
+  vtkBooleanMacro(MixedBoundaryConditions, bool);
+  ///@}
+
   enum EquationType
   {
     LAPLACE = 0,
@@ -646,6 +677,7 @@ protected:
   char* BoundaryValueExpression = nullptr;
   char* BoundaryLaplacianExpression = nullptr;
   bool TwoSidedBoundaryValues = false;
+  bool MixedBoundaryConditions = false;
   int Equation = LAPLACE;
   double ScreeningCoefficient = 1.0;
   char* SourceExpression = nullptr;

@@ -91,6 +91,7 @@
 #include <gridfree/geometry/BoundingBox.h>
 #include <gridfree/geometry/Bvh.h>
 #include <gridfree/geometry/DistanceBoundGrid.h>
+#include <gridfree/geometry/RayParity.h>
 #include <gridfree/geometry/ClosestPointResult.h>
 #include <gridfree/geometry/SidePseudonormals.h>
 #include <gridfree/implicit/SignedDistance.h>
@@ -116,7 +117,7 @@ public:
   using Primitive = typename Bvh<DIM>::Primitive;
 
   // Rays of the vote (odd, so that there are no ties).
-  static constexpr int kRays = 5;
+  static constexpr int kRays = kParityRays;
 
   // Builds its own hierarchy over the mesh. Throws std::invalid_argument for
   // an empty mesh, a non-finite vertex or an index outside `vertices`.
@@ -290,53 +291,18 @@ public:
     {
       return false;
     }
-    int inside = 0;
-    int outside = 0;
-    for (int k = 0; k < kRays; ++k)
-    {
-      if (this->Crossings(x, this->Directions[k]) % 2 == 1)
-      {
-        ++inside;
-      }
-      else
-      {
-        ++outside;
-      }
-      if (2 * inside > kRays)
-      {
-        return true;
-      }
-      if (2 * outside > kRays)
-      {
-        return false;
-      }
-    }
-    return inside > outside;
+    return MajorityParityVote<DIM>(
+      this->Directions, [&](const Vec<DIM>& d) { return this->Crossings(x, d); });
   }
 
   // Crossings of the ray x + t d (t ≥ 0) with the mesh, hits closer together
   // than the merging gap counted once. Exposed for diagnostics and tests.
   std::int64_t Crossings(const Vec<DIM>& x, const Vec<DIM>& direction) const
   {
-    std::int64_t count = 0;
-    double tMin = 0.0;
-    const double inf = std::numeric_limits<double>::infinity();
-    // Each hit moves tMin forward by at least the gap, and each primitive can
-    // be hit only once per ray, so this bound is never reached on a sane
-    // input; it only guards against a pathological one.
-    const std::int64_t limit = static_cast<std::int64_t>(this->Primitives.size()) + 1;
-    while (count < limit)
-    {
-      const RayHit<DIM> hit = this->Tree->Intersect(x, direction, inf, tMin);
-      if (!hit.Hit())
-      {
-        break;
-      }
-      ++count;
-      const double next = hit.t + this->Gap;
-      tMin = next > hit.t ? next : std::nextafter(hit.t, inf);
-    }
-    return count;
+    // Each hit moves the ray's start forward by at least the gap, and each
+    // primitive can be hit only once per ray.
+    return CountRayCrossings<DIM>(*this->Tree, x, direction, this->Gap,
+      static_cast<std::int64_t>(this->Primitives.size()) + 1);
   }
 
   // Unit normal of a primitive in its vertex order (segment: left normal;
@@ -399,7 +365,7 @@ private:
       std::max(this->Box.Min.cwiseAbs().maxCoeff(), this->Box.Max.cwiseAbs().maxCoeff());
     const double scale = std::max(diagonal, magnitude);
     this->OnMesh = 1e-9 * scale;
-    this->Directions = MakeDirections();
+    this->Directions = ParityRayDirections<DIM>();
     this->CleanSides = false;
     if (this->ClosedAndOriented())
     {
@@ -594,42 +560,6 @@ private:
       }
     }
     return oriented;
-  }
-
-  // Well-spread unit directions with irrational components. 2D: five
-  // directions 72° apart, turned by an irrational fraction of the circle.
-  // 3D: the five-point Fibonacci lattice of the sphere (every pair at least
-  // 87° apart), rotated about an irrational axis by one radian, so that no
-  // direction lies in a coordinate plane or along a lattice diagonal.
-  static std::array<Vec<DIM>, kRays> MakeDirections()
-  {
-    std::array<Vec<DIM>, kRays> d;
-    if constexpr (DIM == 2)
-    {
-      const double turn = 0.5 * (std::sqrt(5.0) - 1.0); // golden ratio − 1
-      for (int k = 0; k < kRays; ++k)
-      {
-        // Order 0, 2, 4, 1, 3: the first three (the usual vote) are not
-        // neighbours, at least 72° apart and spanning the whole circle.
-        const int slot = (2 * k) % kRays;
-        const double angle = 2.0 * M_PI * (slot + turn) / kRays;
-        d[k] = Vec<DIM>(std::cos(angle), std::sin(angle));
-      }
-    }
-    else
-    {
-      const double golden = M_PI * (3.0 - std::sqrt(5.0));
-      const Eigen::AngleAxisd rotation(
-        1.0, Vec3(1.0, std::sqrt(2.0), std::sqrt(3.0)).normalized());
-      for (int k = 0; k < kRays; ++k)
-      {
-        const double z = 1.0 - (2.0 * k + 1.0) / kRays;
-        const double r = std::sqrt(1.0 - z * z);
-        const double phi = golden * k;
-        d[k] = (rotation * Vec3(r * std::cos(phi), r * std::sin(phi), z)).normalized();
-      }
-    }
-    return d;
   }
 
   std::vector<Vec<DIM>> Vertices;

@@ -119,6 +119,10 @@ struct BatchSummary
   bool UnboundedSource = false; // a volume source with unbounded support met the exterior
   // Finished points whose error bar is not reliable (ErrorBarReliability.h).
   std::uint64_t UnreliableErrorBars = 0;
+  // Walk on stars: rays that met the Neumann or Robin part from outside
+  // (WalkOnStarsEstimator::BackFaceHits), the sign of a wrongly oriented or
+  // leaking reflecting surface; 0 otherwise.
+  std::uint64_t BackFaceHits = 0;
   double Seconds = 0.0;
 };
 
@@ -368,6 +372,7 @@ public:
       return progress(p);
     };
 
+    std::atomic<std::uint64_t> backFaceHits{ 0 };
     std::mutex totalsMutex;
     auto addTotals = [&](const WalkCounters& sum, const std::array<std::uint64_t, 3>& counts,
                        bool bounded, std::uint64_t unreliable) {
@@ -384,8 +389,8 @@ public:
     if (walkLevel)
     {
       summary.Completed = this->EstimateByBlocks(points, request, sink, kept, startPoint,
-        startWalks, leadWalks, blockWalks, blocksPerPoint, sampleSize, walksDone, report,
-        addTotals);
+        startWalks, leadWalks, blockWalks, blocksPerPoint, sampleSize, walksDone, backFaceHits,
+        report, addTotals);
     }
     else
     {
@@ -468,6 +473,7 @@ public:
             WalkOnStarsEstimator<DIM> estimator(
               *this->Mixed, this->Walk, volume.get(), this->Concentrated());
             runPoints(estimator);
+            backFaceHits.fetch_add(estimator.BackFaceHits(), std::memory_order_relaxed);
           }
           else
           {
@@ -481,6 +487,7 @@ public:
         report);
     }
     summary.WalksRun = walksDone.load();
+    summary.BackFaceHits = backFaceHits.load();
     summary.Seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // Kept sums are whole only after a complete batch.
@@ -702,7 +709,8 @@ private:
     const BatchRequest& request, const PointSink& sink, RunningSumsCache* kept,
     const StartPoint& startPoint, int startWalks, int leadWalks, int blockWalks,
     std::size_t blocksPerPoint, int sampleSize, std::atomic<std::uint64_t>& walksDone,
-    const Report& report, const AddTotals& addTotals) const
+    std::atomic<std::uint64_t>& backFaceHits, const Report& report,
+    const AddTotals& addTotals) const
   {
     const bool derivativeWalks = request.DerivativeWalks();
     const int walks = request.WalksPerPoint;
@@ -777,6 +785,7 @@ private:
           WalkOnStarsEstimator<DIM> estimator(
             *this->Mixed, this->Walk, volume.get(), this->Concentrated());
           runBlocks(estimator);
+          backFaceHits.fetch_add(estimator.BackFaceHits(), std::memory_order_relaxed);
         }
         else
         {

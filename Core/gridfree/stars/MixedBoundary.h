@@ -23,10 +23,12 @@
 #define GRIDFREE_STARS_MIXED_BOUNDARY_H
 
 #include <gridfree/boundary/Boundary.h>
+#include <gridfree/geometry/RayParity.h>
 #include <gridfree/stars/ReflectingBoundarySampler.h>
 #include <gridfree/stars/SilhouetteTree.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -177,6 +179,36 @@ public:
       box.Expand(this->ReflectingPart->BoundsMax());
     }
     this->Box = box;
+    this->ParityGap = 1e-9 * box.Diagonal();
+    this->ParityDirections = ParityRayDirections<DIM>();
+  }
+
+  // Whether x is enclosed by the boundary, both parts together, by ray
+  // parity (RayParity.h): walk on stars solves inside a closed boundary,
+  // where the reflecting part's outward normals point away from x. True
+  // everywhere when the Dirichlet part is not a mesh (no rays to count).
+  bool Inside(const Vec<DIM>& x) const
+  {
+    if (this->DirichletPart && !this->DirichletPart->IsMesh())
+    {
+      return true;
+    }
+    if (!this->Box.Contains(x))
+    {
+      return false;
+    }
+    return MajorityParityVote<DIM>(this->ParityDirections, [&](const Vec<DIM>& d) {
+      std::int64_t crossings = 0;
+      for (const auto* part : { this->DirichletPart.get(), this->ReflectingPart.get() })
+      {
+        if (part)
+        {
+          crossings += CountRayCrossings<DIM>(part->Hierarchy(), x, d, this->ParityGap,
+            static_cast<std::int64_t>(part->NumberOfPrimitives()) + 1);
+        }
+      }
+      return crossings;
+    });
   }
 
   bool HasDirichlet() const { return static_cast<bool>(this->DirichletPart); }
@@ -259,6 +291,8 @@ private:
   ReflectingBoundarySampler<DIM> Sampler;
   std::vector<Vec<DIM>> Normals;
   std::vector<double> Robin; // μ per reflecting primitive (empty: none)
+  double ParityGap = 0.0;
+  std::array<Vec<DIM>, kParityRays> ParityDirections{};
   bool AnyRobin = false;
   BoundingBox<DIM> Box;
 };

@@ -1,0 +1,305 @@
+"""Mixed boundary conditions through the solver's VTK API (walk on stars,
+Documentation/WalkOnStars.md): Dirichlet, Neumann and Robin cells of one
+mesh chosen by a condition array, against harmonic closed forms (|z| < 5,
+mean z^2 near 1), and the messages of what cannot work."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataObject, vtkPolyData  # noqa: E402
+from vtkmodules.vtkFiltersSources import vtkTessellatedBoxSource  # noqa: E402
+
+from gridfree_testing import MessageCatcher, add_point_array, z_scores  # noqa: E402
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+CELLS = vtkDataObject.FIELD_ASSOCIATION_CELLS
+SOLVER = gridfree.vtkWalkOnSpheresSolver
+ROBIN = 2.0  # the Robin coefficient on the z faces
+
+
+def u3(x, y, z):
+    return x * x - y * y + 0.5 * z
+
+
+def grad3(x, y, z):
+    return (2.0 * x, -2.0 * y, 0.5)
+
+
+def face_normal(c):
+    """The outward normal of the face of [-0.5, 0.5]^3 a cell centre lies on."""
+    axis = max(range(3), key=lambda k: abs(c[k]))
+    n = [0.0, 0.0, 0.0]
+    n[axis] = 1.0 if c[axis] > 0 else -1.0
+    return axis, n
+
+
+def cell_centre(mesh, cell):
+    ids = mesh.GetCell(cell).GetPointIds()
+    pts = [mesh.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+    return [sum(p[k] for p in pts) / len(pts) for k in range(3)]
+
+
+def box(level=12):
+    """The cube [-0.5, 0.5]^3, outward triangles, each face with its own
+    points: T = u everywhere, bc = 0 on the x faces (Dirichlet), 1 on the y
+    faces (Neumann), 2 on the z faces (Robin, mu = ROBIN), and the flux h =
+    du/dn + mu u at each face's points."""
+    source = vtkTessellatedBoxSource()
+    source.SetBounds(-0.5, 0.5, -0.5, 0.5, -0.5, 0.5)
+    source.SetLevel(level)
+    source.QuadsOff()
+    source.DuplicateSharedPointsOn()
+    source.Update()
+    mesh = vtkPolyData()
+    mesh.DeepCopy(source.GetOutput())
+    add_point_array(mesh, "T", u3)
+    bc = vtkIntArray()
+    bc.SetName("bc")
+    mu = vtkDoubleArray()
+    mu.SetName("mu")
+    point_normal = {}
+    for cell in range(mesh.GetNumberOfCells()):
+        axis, n = face_normal(cell_centre(mesh, cell))
+        bc.InsertNextValue(axis)  # x faces 0, y faces 1, z faces 2
+        mu.InsertNextValue(ROBIN if axis == 2 else 0.0)
+        ids = mesh.GetCell(cell).GetPointIds()
+        for k in range(ids.GetNumberOfIds()):
+            point_normal[ids.GetId(k)] = (axis, n)
+    mesh.GetCellData().AddArray(bc)
+    mesh.GetCellData().AddArray(mu)
+    h = vtkDoubleArray()
+    h.SetName("h")
+    for i in range(mesh.GetNumberOfPoints()):
+        p = mesh.GetPoint(i)
+        axis, n = point_normal[i]
+        flux = sum(g * nk for g, nk in zip(grad3(*p), n))
+        h.InsertNextValue(flux + (ROBIN * u3(*p) if axis == 2 else 0.0))
+    mesh.GetPointData().AddArray(h)
+    return mesh
+
+
+def cloud(count, half=0.4, outside=()):
+    """Deterministic points in the cube [-half, half]^3, then `outside`."""
+    points = vtkPoints()
+    for i in range(count):
+        # A Halton-like low-discrepancy sequence in bases 2, 3, 5.
+        coords = []
+        for base in (2, 3, 5):
+            f, r, n = 1.0, 0.0, i + 1
+            while n > 0:
+                f /= base
+                r += f * (n % base)
+                n //= base
+            coords.append((2.0 * r - 1.0) * half)
+        points.InsertNextPoint(*coords)
+    for p in outside:
+        points.InsertNextPoint(*p)
+    data = vtkPolyData()
+    data.SetPoints(points)
+    return data
+
+
+def mixed_solver(boundary, probe, walks=128):
+    solver = SOLVER()
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeData(probe)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetMixedBoundaryConditions(True)
+    solver.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
+    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h")
+    solver.SetInputArrayToProcess(6, 0, 0, CELLS, "mu")
+    solver.SetWalksPerPoint(walks)
+    solver.SetSeed(11)
+    return solver
+
+
+def field(output, name):
+    return output.GetFieldData().GetArray(name).GetTuple1(0)
+
+
+def assert_calibrated(scores):
+    assert max(abs(z) for z in scores) < 5.0, max(abs(z) for z in scores)
+    mean_z2 = sum(z * z for z in scores) / len(scores)
+    assert 0.7 < mean_z2 < 1.4, mean_z2
+
+
+def test_dirichlet_neumann_and_robin_faces_of_a_box():
+    outside = [(0.9, 0.0, 0.0), (0.0, -0.8, 0.3)]
+    solver = mixed_solver(box(), cloud(150, outside=outside))
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    n = out.GetNumberOfPoints()
+    scores = z_scores(out, u3)[: n - len(outside)]
+    assert_calibrated(scores)
+    # Points outside the closed boundary are left out, and said so.
+    values = out.GetPointData().GetArray("T")
+    assert all(math.isnan(values.GetTuple1(i)) for i in range(n - len(outside), n))
+    assert field(out, "OutsidePoints") == len(outside)
+    assert "lie outside the closed boundary" in catcher.warning_text()
+    assert field(out, "BackFaceHits") == 0
+
+
+def test_a_wrong_flux_sign_is_detected():
+    # The flux taken along the inward normal: the estimate must move off
+    # the solution (the test above is not passing by accident).
+    mesh = box()
+    h = mesh.GetPointData().GetArray("h")
+    bc = mesh.GetCellData().GetArray("bc")
+    flipped = vtkDoubleArray()
+    flipped.DeepCopy(h)
+    flipped.SetName("h_flipped")
+    neumann_points = set()
+    for cell in range(mesh.GetNumberOfCells()):
+        if bc.GetValue(cell) == 1:
+            ids = mesh.GetCell(cell).GetPointIds()
+            neumann_points.update(ids.GetId(k) for k in range(3))
+    for i in neumann_points:
+        flipped.SetValue(i, -h.GetValue(i))
+    mesh.GetPointData().AddArray(flipped)
+    solver = mixed_solver(mesh, cloud(150))
+    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h_flipped")
+    solver.Update()
+    scores = z_scores(solver.GetOutput(), u3)
+    assert sum(z * z for z in scores) / len(scores) > 4.0
+
+
+def test_neumann_cells_met_from_outside_are_counted():
+    # The mesh turned inside out: every normal points into the box.
+    mesh = box(level=6)
+    polys = mesh.GetPolys()
+    flipped = vtkCellArray()
+    for cell in range(mesh.GetNumberOfCells()):
+        ids = mesh.GetCell(cell).GetPointIds()
+        flipped.InsertNextCell(3)
+        for k in (0, 2, 1):
+            flipped.InsertCellPoint(ids.GetId(k))
+    assert polys.GetNumberOfCells() == flipped.GetNumberOfCells()
+    mesh.SetPolys(flipped)
+    solver = mixed_solver(mesh, cloud(20), walks=16)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert field(solver.GetOutput(), "BackFaceHits") > 0
+    assert "from outside the domain" in catcher.warning_text()
+
+
+def square_2d():
+    """The square [-0.5, 0.5]^2 in z = 0, counter-clockwise (the domain on
+    the left), one polyline per side of 8 segments: T = x^2 - y^2, the
+    point array bc = 1 on the points of the y sides' interiors (Neumann,
+    flux -1 there), 0 on the x sides and the corners."""
+    points = vtkPoints()
+    lines = vtkCellArray()
+    corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    segments = 8
+    for side in range(4):
+        a, b = corners[side], corners[(side + 1) % 4]
+        lines.InsertNextCell(segments + 1)
+        for k in range(segments + 1):
+            t = k / segments
+            lines.InsertCellPoint(points.InsertNextPoint(
+                a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), 0.0))
+    mesh = vtkPolyData()
+    mesh.SetPoints(points)
+    mesh.SetLines(lines)
+    add_point_array(mesh, "T", lambda x, y, z: x * x - y * y)
+    bc = vtkIntArray()
+    bc.SetName("bc")
+    for i in range(mesh.GetNumberOfPoints()):
+        x, y, _ = mesh.GetPoint(i)
+        bc.InsertNextValue(1 if abs(abs(y) - 0.5) < 1e-12 and abs(x) < 0.5 - 1e-12 else 0)
+    mesh.GetPointData().AddArray(bc)
+    add_point_array(mesh, "h", lambda x, y, z: -1.0)
+    return mesh
+
+
+def test_point_conditions_in_2d():
+    # Per point: a segment is Neumann only where both its points are, so the
+    # segments at the corners stay Dirichlet (there u = g still holds).
+    probe = vtkPolyData()
+    points = vtkPoints()
+    for i in range(150):
+        points.InsertNextPoint(0.8 * ((i * 0.7548776662) % 1.0 - 0.5),
+                               0.8 * ((i * 0.5698402910) % 1.0 - 0.5), 0.0)
+    probe.SetPoints(points)
+    solver = SOLVER()
+    solver.SetBoundaryData(square_2d())
+    solver.SetProbeData(probe)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetMixedBoundaryConditions(True)
+    solver.SetInputArrayToProcess(4, 0, 0, POINTS, "bc")
+    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h")
+    solver.SetWalksPerPoint(256)
+    solver.SetSeed(5)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(solver.GetOutput(), lambda x, y, z: x * x - y * y))
+
+
+def failing_solve(configure, level=3):
+    solver = mixed_solver(box(level), cloud(4), walks=4)
+    configure(solver, solver.GetInputDataObject(0, 0))
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    return catcher.error_text()
+
+
+def test_messages_of_what_cannot_work():
+    def bad_code(solver, mesh):
+        mesh.GetCellData().GetArray("bc").SetValue(5, 3)
+    assert "may hold only 0 (Dirichlet), 1 (Neumann) and 2 (Robin)" in failing_solve(bad_code)
+
+    def no_condition_array(solver, mesh):
+        solver.SetInputArrayToProcess(4, 0, 0, CELLS, "")
+    assert "no Boundary Condition Array is selected" in failing_solve(no_condition_array)
+
+    def gradient(solver, mesh):
+        solver.SetComputeGradient(True)
+    assert "Compute Gradient" in failing_solve(gradient)
+
+    def biharmonic(solver, mesh):
+        solver.SetEquation(SOLVER.BIHARMONIC)
+    assert "the biharmonic equation" in failing_solve(biharmonic)
+
+    def robin_without_coefficients(solver, mesh):
+        solver.SetInputArrayToProcess(6, 0, 0, CELLS, "None")
+    assert "no Robin coefficient array" in failing_solve(robin_without_coefficients)
+
+    def negative_coefficient(solver, mesh):
+        mesh.GetCellData().GetArray("mu").Fill(-1.0)
+    assert "must be finite and >= 0" in failing_solve(negative_coefficient)
+
+    def all_neumann(solver, mesh):
+        mesh.GetCellData().GetArray("bc").Fill(1)
+    assert "no unique solution" in failing_solve(all_neumann)
+
+    def flux_components(solver, mesh):
+        add_point_array(mesh, "h3", lambda x, y, z: (0.0, 0.0, 0.0), components=3)
+        solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h3")
+    assert "components" in failing_solve(flux_components)
+
+
+def test_all_neumann_is_fine_when_screened():
+    # Delta u - c u = f with u = cos(2 pi x), whose flux is 0 on every face
+    # of the box: walks reflect everywhere, the source and the screening
+    # alone make the value.
+    c = 4.0
+    mesh = box(level=4)
+    mesh.GetCellData().GetArray("bc").Fill(1)
+    solver = mixed_solver(mesh, cloud(100), walks=256)
+    solver.SetEquation(SOLVER.SCREENED_POISSON)
+    solver.SetScreeningCoefficient(c)
+    pi = repr(math.pi)
+    solver.SetSourceExpression(f"-(4*{pi}^2 + {c})*cos(2*{pi}*x)")
+    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "None")
+    solver.SetInputArrayToProcess(6, 0, 0, CELLS, "None")
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(solver.GetOutput(), lambda x, y, z: math.cos(2 * math.pi * x)))
