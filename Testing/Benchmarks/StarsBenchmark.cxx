@@ -10,8 +10,15 @@
 // the bottom and back faces Dirichlet; and the unit icosphere of 20,480
 // triangles, Dirichlet below z = 0.
 //
+// Configured with GRIDFREE_ZOMBIE_SOURCE_DIR (and FCPW, PCG32), the authors'
+// walk on stars solves each Neumann problem too, in the same run
+// (ZombieStarsRows.h).
+//
 //   GridFreeStarsBenchmark [walks per point] [points]
 #include "BenchmarkRows.h"
+#ifdef GRIDFREE_WITH_ZOMBIE
+#include "ZombieStarsRows.h"
+#endif
 #include "MixedShapes.h"
 #include "TestMeshes.h"
 #include <gridfree/estimators/WalkOnSpheres.h>
@@ -49,6 +56,43 @@ Row Run(const std::string& name, double setup, Estimator& estimator,
   return row;
 }
 
+#ifdef GRIDFREE_WITH_ZOMBIE
+// The same Neumann problem solved by the authors' library (float, fcpw).
+Row ZombieRow(const std::string& name, const SimplexMesh<3>& mesh,
+  const std::function<bool(const Vec3&)>& isDirichlet, const std::vector<Vec3>& points, int walks,
+  const WalkSettings& settings)
+{
+  using Point = std::array<double, 3>;
+  auto vec = [](const Point& p) { return Vec3(p[0], p[1], p[2]); };
+  ZombieProblem problem;
+  for (const Vec3& v : mesh.Vertices)
+  {
+    problem.Vertices.push_back(Point{ v[0], v[1], v[2] });
+  }
+  problem.Triangles.assign(mesh.Simplices.begin(), mesh.Simplices.end());
+  problem.IsDirichlet = [&](const Point& c) { return isDirichlet(vec(c)); };
+  problem.Exact = [&](const Point& x) { return Exact(vec(x)); };
+  problem.Gradient = [&](const Point& x) {
+    const Vec3 g = ExactGradient(vec(x));
+    return Point{ g[0], g[1], g[2] };
+  };
+  std::vector<Point> at;
+  for (const Vec3& p : points)
+  {
+    at.push_back(Point{ p[0], p[1], p[2] });
+  }
+  const ZombieResult r =
+    RunZombieWalkOnStars(problem, at, walks, settings.Epsilon, settings.MaxSteps);
+  Row row;
+  row.Name = name;
+  row.SetupSeconds = r.SetupSeconds;
+  row.WalksPerSecond = r.WalksPerSecond;
+  row.StepsPerWalk = r.StepsPerWalk;
+  row.Rmse = r.Rmse;
+  return row;
+}
+#endif
+
 // The three solves of one domain: all Dirichlet by walk on spheres and by
 // walk on stars, then with the reflecting part `robin` decides (μ = 0:
 // Neumann) on the primitives `isDirichlet` leaves.
@@ -72,6 +116,10 @@ std::vector<Row> Domain(const std::string& name, const SimplexMesh<3>& mesh,
   setup = SecondsSince(start);
   WalkOnStarsEstimator<3> starsNeumann(neumann, settings);
   rows.push_back(Run(name + ", Neumann part: walk on stars", setup, starsNeumann, points, walks));
+#ifdef GRIDFREE_WITH_ZOMBIE
+  rows.push_back(ZombieRow(name + ", Neumann part: zombie (fcpw)", mesh, isDirichlet, points,
+    walks, settings));
+#endif
   start = std::chrono::steady_clock::now();
   const MixedBoundary<3> mixedRobin =
     MakeMixed<3>(mesh, isDirichlet, Exact, ExactGradient, true, 1.0, robin);

@@ -2,7 +2,8 @@
 --exit` under xvfb, with GRIDFREE_TEST_ABORT_AFTER_SECONDS=3): a solve
 projected to take about a quarter of an hour, whose progress bar's Abort
 button the plugin's GUI component clicks after 3 s, exactly as a user would.
-The solve must stop within a second of the click, and its output must be
+The solve must stop within a second of the click (3 s of slack in all for
+the set-up before it), and its output must be
 clearly partial (points not reached are NaN), not stale."""
 import math
 import os
@@ -27,6 +28,9 @@ out = servermanager.Fetch(solver)
 values = out.GetPointData().GetArray("g")
 nan = sum(1 for i in range(values.GetNumberOfTuples()) if math.isnan(values.GetValue(i)))
 assert 0 < nan < out.GetNumberOfPoints(), nan
-assert seconds < after + 1.0 + 1.0, seconds  # the click, then at most a second (+1 s set-up)
+# The click, then at most a second; the set-up before the first progress
+# report (when the click's clock starts) took up to 2 s with ctest -j2 on
+# two cores.
+assert seconds < after + 1.0 + 2.0, seconds
 print("ok: abort: the solve stopped %.1f s after it started (Abort clicked at %.0f s); "
       "%d of %d points not reached are NaN" % (seconds, after, nan, out.GetNumberOfPoints()))

@@ -1,0 +1,157 @@
+// The only file that includes the authors' headers (see ZombieStarsRows.h).
+#include "ZombieStarsRows.h"
+
+#include <zombie/point_estimation/walk_on_stars.h>
+#include <zombie/utils/fcpw_geometric_queries.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace gridfree
+{
+namespace bench
+{
+namespace
+{
+using Point = std::array<double, 3>;
+
+zombie::Vector3 ToFloat(const Point& p)
+{
+  return zombie::Vector3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+}
+
+Point ToDouble(const zombie::Vector3& p)
+{
+  return Point{ p[0], p[1], p[2] };
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The primitives of one part with their own compact vertex list.
+struct Part
+{
+  std::vector<zombie::Vector3> Positions;
+  std::vector<zombie::Vector3i> Indices;
+};
+
+void Add(Part& part, std::vector<int>& map, const std::vector<Point>& vertices,
+  const std::array<std::int64_t, 3>& triangle)
+{
+  zombie::Vector3i indices;
+  for (int k = 0; k < 3; ++k)
+  {
+    int& m = map[static_cast<std::size_t>(triangle[k])];
+    if (m < 0)
+    {
+      m = static_cast<int>(part.Positions.size());
+      part.Positions.push_back(ToFloat(vertices[static_cast<std::size_t>(triangle[k])]));
+    }
+    indices[k] = m;
+  }
+  part.Indices.push_back(indices);
+}
+} // namespace
+
+ZombieResult RunZombieWalkOnStars(const ZombieProblem& problem,
+  const std::vector<std::array<double, 3>>& points, int walks, double epsilon, int maxSteps)
+{
+  const auto setupStart = std::chrono::steady_clock::now();
+  Part absorbing, reflecting;
+  const std::vector<Point>& vertices = problem.Vertices;
+  std::vector<int> mapA(vertices.size(), -1), mapR(vertices.size(), -1);
+  for (const auto& t : problem.Triangles)
+  {
+    Point centroid{ 0.0, 0.0, 0.0 };
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int d = 0; d < 3; ++d)
+      {
+        centroid[d] += vertices[static_cast<std::size_t>(t[k])][d] / 3.0;
+      }
+    }
+    if (problem.IsDirichlet(centroid))
+    {
+      Add(absorbing, mapA, vertices, t);
+    }
+    else
+    {
+      Add(reflecting, mapR, vertices, t);
+    }
+  }
+  zombie::Vector3 lo = zombie::Vector3::Constant(std::numeric_limits<float>::max());
+  zombie::Vector3 hi = -lo;
+  for (const Point& v : vertices)
+  {
+    lo = lo.cwiseMin(ToFloat(v));
+    hi = hi.cwiseMax(ToFloat(v));
+  }
+  zombie::GeometricQueries<3> queries(true, lo, hi);
+  zombie::FcpwDirichletBoundaryHandler<3> dirichletHandler;
+  dirichletHandler.buildAccelerationStructure(absorbing.Positions, absorbing.Indices, true, false, false);
+  zombie::populateGeometricQueriesForDirichletBoundary<3>(dirichletHandler, queries);
+  zombie::FcpwNeumannBoundaryHandler<3> neumannHandler;
+  neumannHandler.buildAccelerationStructure(reflecting.Positions, reflecting.Indices,
+    zombie::getIgnoreCandidateSilhouetteCallback(false), true, false, false);
+  zombie::populateGeometricQueriesForNeumannBoundary<3>(
+    neumannHandler, zombie::getBranchTraversalWeightCallback(), queries);
+  ZombieResult result;
+  result.SetupSeconds = SecondsSince(setupStart);
+
+  // Laplace: u = g on the absorbing part, ∂u/∂n = h on the reflecting one.
+  zombie::PDE<float, 3> pde;
+  pde.source = [](const zombie::Vector3&) { return 0.0f; };
+  pde.isSourceConstant = true;
+  pde.dirichlet = [&problem](const zombie::Vector3& x, bool) {
+    return static_cast<float>(problem.Exact(ToDouble(x)));
+  };
+  pde.robin = [&problem](const zombie::Vector3& x, const zombie::Vector3& n, bool) {
+    const Point g = problem.Gradient(ToDouble(x));
+    return static_cast<float>(g[0] * n[0] + g[1] * n[1] + g[2] * n[2]);
+  };
+  pde.robinCoeff = [](const zombie::Vector3&, const zombie::Vector3&, bool) { return 0.0f; };
+  pde.hasReflectingBoundaryConditions = [&problem](const zombie::Vector3& x) {
+    return !problem.IsDirichlet(ToDouble(x));
+  };
+  pde.areRobinConditionsPureNeumann = true;
+  const float eps = static_cast<float>(epsilon);
+  zombie::WalkSettings settings(eps, eps, maxSteps, false);
+  settings.ignoreSourceContribution = true;
+
+  std::vector<zombie::SamplePoint<float, 3>> samples;
+  samples.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const zombie::Vector3 x = ToFloat(points[i]);
+    samples.emplace_back(x, zombie::Vector3::Zero(), zombie::SampleType::InDomain,
+      zombie::EstimationQuantity::Solution, 1.0f, queries.computeDistToAbsorbingBoundary(x, false),
+      queries.computeDistToReflectingBoundary(x, false));
+    samples.back().rng = pcg32(7, i);
+  }
+  std::vector<zombie::SampleStatistics<float, 3>> statistics;
+  const std::vector<int> walkCounts(points.size(), walks);
+  zombie::WalkOnStars<float, 3> solver(queries);
+  const auto start = std::chrono::steady_clock::now();
+  solver.solve(pde, settings, walkCounts, samples, statistics, true);
+  const double seconds = SecondsSince(start);
+
+  double squared = 0.0, steps = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const double e = statistics[i].getEstimatedSolution() - problem.Exact(points[i]);
+    squared += e * e;
+    steps += statistics[i].getMeanWalkLength();
+  }
+  const double n = static_cast<double>(points.size());
+  result.WalksPerSecond = static_cast<double>(walks) * n / seconds;
+  result.StepsPerWalk = steps / n;
+  result.Rmse = std::sqrt(squared / n);
+  return result;
+}
+} // namespace bench
+} // namespace gridfree
