@@ -5,6 +5,7 @@
 // Run with --help for the options. Prints Markdown tables; quote ratios, not
 // absolute numbers (shared machines are noisy).
 #include "BenchmarkMeshes.h"
+#include "BenchmarkTables.h"
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/DerivativeWalkOnSpheres.h>
 #include <gridfree/geometry/Bvh.h>
@@ -47,7 +48,6 @@
 
 using namespace gridfree;
 using namespace gridfree::bench;
-using Clock = std::chrono::steady_clock;
 
 namespace
 {
@@ -193,55 +193,6 @@ bool ParseOptions(int argc, char* argv[], Options& o, int& exitCode)
   return true;
 }
 
-// ---------------------------------------------------------------- timing
-
-double Seconds(Clock::time_point start)
-{
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Calls body(i) for i in [0, count) on `threads` threads; returns calls/s.
-template <typename Body>
-double RatePerSecond(std::size_t count, int threads, const Body& body)
-{
-  tbb::task_arena arena(threads);
-  const auto start = Clock::now();
-  arena.execute([&] {
-    tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, count, 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-        {
-          body(i);
-        }
-      });
-  });
-  return count / Seconds(start);
-}
-
-// How many calls of body fill about `seconds` on one thread: times doubling
-// prefixes until one takes 50 ms, then extrapolates. Every measurement of a
-// set uses the same count, so all contenders do exactly the same work.
-template <typename Body>
-std::size_t CountForSeconds(double seconds, std::size_t atMost, const Body& body)
-{
-  std::size_t chunk = 1;
-  for (;;)
-  {
-    const auto start = Clock::now();
-    for (std::size_t i = 0; i < chunk; ++i)
-    {
-      body(i);
-    }
-    const double elapsed = Seconds(start);
-    if (elapsed >= 0.05 || chunk >= atMost)
-    {
-      const double rate = chunk / std::max(elapsed, 1e-9);
-      return std::clamp<std::size_t>(static_cast<std::size_t>(rate * seconds), chunk, atMost);
-    }
-    chunk = std::min(2 * chunk, atMost);
-  }
-}
-
 // ---------------------------------------------------------------- memory
 
 // Written once per measurement so the compiler cannot drop the queries.
@@ -265,66 +216,6 @@ double CurrentRssMiB()
   return resident * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
-// ---------------------------------------------------------------- output
-
-// A Markdown table row: the cells, left-aligned text first, "–" for
-// negative numbers (no such measurement).
-std::string Number(double v, const char* format = "%.0f")
-{
-  if (!(v >= 0.0))
-  {
-    return "–";
-  }
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, v);
-  return buffer;
-}
-
-std::string Ratio(double a, double b)
-{
-  return a > 0.0 && b > 0.0 ? Number(a / b, "%.1fx") : "–";
-}
-
-std::string Gain(double a, double b)
-{
-  return a > 0.0 && b > 0.0 ? Number(a / b, "%.2fx") : "–";
-}
-
-void PrintRow(const std::vector<std::string>& cells)
-{
-  std::string line = "|";
-  for (const std::string& c : cells)
-  {
-    line += " " + c + " |";
-  }
-  std::puts(line.c_str());
-  std::fflush(stdout);
-}
-
-void PrintHeader(const std::vector<std::string>& titles, int textColumns)
-{
-  PrintRow(titles);
-  std::string rule = "|";
-  for (std::size_t i = 0; i < titles.size(); ++i)
-  {
-    rule += static_cast<int>(i) < textColumns ? "---|" : "---:|";
-  }
-  std::puts(rule.c_str());
-}
-
-std::string Triangles(std::size_t n)
-{
-  std::string digits = std::to_string(n), out;
-  for (std::size_t i = 0; i < digits.size(); ++i)
-  {
-    if (i > 0 && (digits.size() - i) % 3 == 0)
-    {
-      out += ',';
-    }
-    out += digits[i];
-  }
-  return out;
-}
 
 // ---------------------------------------------------------------- targets
 
@@ -356,19 +247,6 @@ void PrintTargets(const std::vector<Target>& targets)
 }
 
 // ---------------------------------------------------------------- meshes
-
-double HalfLongestSide(const TriangleMesh& mesh)
-{
-  const Box box = BoundsOf(mesh);
-  return 0.5 * (box.Max - box.Min).maxCoeff();
-}
-
-std::string FileStem(const std::string& path)
-{
-  std::string name = path.substr(path.find_last_of("/\\") + 1);
-  const std::size_t dot = name.rfind('.');
-  return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
-}
 
 std::vector<Mesh> LoadMeshes(const Options& o)
 {
