@@ -485,7 +485,9 @@ void QueriesPart(const std::vector<Mesh>& meshes, const Options& o)
     agreements.push_back(agreement);
   }
 
-  std::printf("\n## Build and memory\n\nOne thread. Ours: Bvh<3>::Build and MemoryBytes "
+  std::printf("\n## Build and memory\n\nOurs on all threads (subtrees of 2^15 triangles or more "
+              "build in parallel), fcpw's on one (its builder is sequential). Ours: "
+              "Bvh<3>::Build and MemoryBytes "
               "(nodes, triangles in leaf order with their vertices inline, original ids). "
               "fcpw: filling its scene and building its vectorized BVH; its bytes are the heap "
               "its scene holds after the build (malloc statistics: its vertex and triangle "

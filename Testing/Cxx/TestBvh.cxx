@@ -13,6 +13,7 @@
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -948,3 +949,39 @@ TEST(Bvh, DistanceLowerBound)
   CheckDistanceLowerBound<3>(closed, inside);
 }
 } // namespace
+
+// Ranges of 2^15 primitives or more build their subtrees as parallel tasks:
+// the hierarchy must be the same whatever the thread count (same answers,
+// same primitive, same size), valid, and exact.
+TEST(Bvh, ParallelBuildIsTheSameOnAnyThreadCount)
+{
+  const auto mesh = gridfree::testing::MakeIcosphere(6); // 81,920 triangles
+  ASSERT_GT(mesh.Simplices.size(), 2u << 15);
+  Bvh<3> one, two;
+  tbb::task_arena(1).execute([&] { one.Build(mesh.Vertices, mesh.Simplices); });
+  tbb::task_arena(2).execute([&] { two.Build(mesh.Vertices, mesh.Simplices); });
+  ASSERT_TRUE(one.Validate());
+  ASSERT_TRUE(two.Validate());
+  EXPECT_EQ(one.MemoryBytes(), two.MemoryBytes());
+  Soup<3> soup{ mesh.Vertices, mesh.Simplices };
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  for (int i = 0; i < 400; ++i)
+  {
+    const Vec3 x(u(rng), u(rng), u(rng));
+    const auto a = one.ClosestPoint(x);
+    const auto b = two.ClosestPoint(x);
+    ASSERT_EQ(a.primitive, b.primitive);
+    ASSERT_EQ(a.distance, b.distance);
+    const Vec3 d = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const auto ha = one.Intersect(x, d);
+    const auto hb = two.Intersect(x, d);
+    ASSERT_EQ(ha.primitive, hb.primitive);
+    ASSERT_EQ(ha.t, hb.t);
+    if (i < 20)
+    {
+      CheckQuery(two, soup, x, 2.0);
+      ASSERT_FALSE(HasFatalFailure());
+    }
+  }
+}
