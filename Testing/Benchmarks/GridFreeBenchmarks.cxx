@@ -532,7 +532,7 @@ void QueriesPart(const std::vector<Mesh>& meshes, const Options& o, std::vector<
               "(nodes, triangles with their vertices inline, original indices); Embree's "
               "count is what its memory monitor reports for the scene (its hierarchy and "
               "its float vertex and index buffers; not the double-precision copy of the "
-              "triangles its distance callback reads). Our build runs on all threads (subtrees of 2^15 triangles or more in parallel), VTK's on 1, "
+              "triangles its distance callback reads). Our build runs on all threads (subtrees of 2^12 triangles or more in parallel), VTK's on 1, "
               "Embree's on all threads.\n\n");
   PrintHeader({ "mesh", "triangles", "ours build (s)", "ours bytes/tri", "VTK locator build (s)",
                 "Embree build (s)", "Embree bytes/tri" },

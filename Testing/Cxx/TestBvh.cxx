@@ -950,7 +950,7 @@ TEST(Bvh, DistanceLowerBound)
 }
 } // namespace
 
-// Ranges of 2^15 primitives or more build their subtrees as parallel tasks:
+// Ranges of 2^12 primitives or more build their subtrees as parallel tasks:
 // the hierarchy must be the same whatever the thread count (same answers,
 // same primitive, same size), valid, and exact.
 TEST(Bvh, ParallelBuildIsTheSameOnAnyThreadCount)

@@ -362,6 +362,32 @@ private:
   using PrimitiveData = detail::BvhPrimitive<DIM>;
 
   // Builder state, alive only during Build().
+  struct BuildRecord;
+  /// Box and centroid box of a range of records, in float (the records'
+  /// boxes are rounded outward, and float min / max is exact).
+  struct RangeBounds
+  {
+    float Lo[DIM], Hi[DIM], CLo[DIM], CHi[DIM];
+    void Reset()
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        this->Lo[k] = this->CLo[k] = std::numeric_limits<float>::infinity();
+        this->Hi[k] = this->CHi[k] = -std::numeric_limits<float>::infinity();
+      }
+    }
+    void Add(const BuildRecord& p)
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        this->Lo[k] = std::min(this->Lo[k], p.Lo[k]);
+        this->Hi[k] = std::max(this->Hi[k], p.Hi[k]);
+        const float c = p.Center(k);
+        this->CLo[k] = std::min(this->CLo[k], c);
+        this->CHi[k] = std::max(this->CHi[k], c);
+      }
+    }
+  };
   struct Range
   {
     std::uint32_t Begin = 0;
@@ -369,6 +395,13 @@ private:
     std::uint32_t Mid = 0; // split position when !Leaf
     bool Leaf = true;
     BoundingBox<DIM> Box;
+    // Bounds of this range when already known (from the parent's partition,
+    // which computes them for both sides while it moves the records), and
+    // of the two sides of this range's split once Evaluate has made it.
+    bool Known = false;
+    RangeBounds Bounds;
+    bool SplitKnown = false;
+    RangeBounds SplitBounds[2];
   };
   /// One primitive while building: its box rounded outward to float (so it
   /// still encloses the primitive) and its index. The records themselves are
@@ -397,9 +430,25 @@ private:
   std::uint32_t BuildNode(BuildState& s, const Range& r, int level, NodeVector& out) const;
   /// Ranges of at least this many primitives build their children's
   /// subtrees as parallel tasks.
-  static constexpr std::uint32_t kParallelBuildSize = 1u << 15;
+  static constexpr std::uint32_t kParallelBuildSize = 1u << 12;
   /// Primitives per block of the builder's per-primitive loops.
   static constexpr std::size_t kBuildBlock = std::size_t(1) << 14;
+
+  /// Runs two independent parts of the build, as parallel tasks.
+  template <class A, class B>
+  static void RunBoth(const A& a, const B& b)
+  {
+#if defined(__SANITIZE_THREAD__)
+    // Debian's libtbb is not built with ThreadSanitizer (see BuildNode).
+    a();
+    b();
+#else
+    tbb::task_group tasks;
+    tasks.run([&a] { a(); });
+    b();
+    tasks.wait();
+#endif
+  }
 
   /// body(block, begin, end) for the blocks of kBuildBlock primitives of
   /// [0, n), on all threads; each block writes only its own elements.
@@ -801,7 +850,9 @@ void Bvh<DIM>::Build(
   const auto numVerts = static_cast<std::int64_t>(vertices.size());
   const std::size_t blocks = (n + kBuildBlock - 1) / kBuildBlock;
   std::vector<BoundingBox<DIM>> blockBoxes(blocks);
+  std::vector<RangeBounds> blockBounds(blocks);
   ForEachBlock(n, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    blockBounds[block].Reset();
     for (std::size_t i = begin; i < end; ++i)
     {
       BoundingBox<DIM> b;
@@ -821,14 +872,28 @@ void Bvh<DIM>::Build(
       }
       record.Id = static_cast<std::uint32_t>(i);
       blockBoxes[block].Expand(b);
+      blockBounds[block].Add(record);
     }
   });
   for (const BoundingBox<DIM>& b : blockBoxes)
   {
     this->Box.Expand(b);
   }
-
+  // The root's record bounds too, so that its first pass is not needed.
   Range root;
+  root.Known = true;
+  root.Bounds.Reset();
+  for (const RangeBounds& b : blockBounds)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      root.Bounds.Lo[k] = std::min(root.Bounds.Lo[k], b.Lo[k]);
+      root.Bounds.Hi[k] = std::max(root.Bounds.Hi[k], b.Hi[k]);
+      root.Bounds.CLo[k] = std::min(root.Bounds.CLo[k], b.CLo[k]);
+      root.Bounds.CHi[k] = std::max(root.Bounds.CHi[k], b.CHi[k]);
+    }
+  }
+
   root.Begin = 0;
   root.End = static_cast<std::uint32_t>(n);
   this->Evaluate(s, root, 0);
@@ -889,25 +954,20 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
 
   BuildRecord* const first = s.Records.data() + r.Begin;
   BuildRecord* const last = s.Records.data() + r.End;
-  // Range box and centroid box in one pass, in float (the records' boxes are
-  // already rounded outward, and float min/max is exact).
-  float boxLo[DIM], boxHi[DIM], cLo[DIM], cHi[DIM];
-  for (int k = 0; k < DIM; ++k)
+  // Range box and centroid box: from the parent's partition, or one pass.
+  r.SplitKnown = false;
+  if (!r.Known)
   {
-    boxLo[k] = cLo[k] = std::numeric_limits<float>::infinity();
-    boxHi[k] = cHi[k] = -std::numeric_limits<float>::infinity();
-  }
-  for (const BuildRecord* p = first; p != last; ++p)
-  {
-    for (int k = 0; k < DIM; ++k)
+    r.Bounds.Reset();
+    for (const BuildRecord* p = first; p != last; ++p)
     {
-      boxLo[k] = std::min(boxLo[k], p->Lo[k]);
-      boxHi[k] = std::max(boxHi[k], p->Hi[k]);
-      const float c = p->Center(k);
-      cLo[k] = std::min(cLo[k], c);
-      cHi[k] = std::max(cHi[k], c);
+      r.Bounds.Add(*p);
     }
   }
+  const float* const boxLo = r.Bounds.Lo;
+  const float* const boxHi = r.Bounds.Hi;
+  const float* const cLo = r.Bounds.CLo;
+  const float* const cHi = r.Bounds.CHi;
   r.Box = BoundingBox<DIM>();
   if (r.End > r.Begin)
   {
@@ -942,6 +1002,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
     std::nth_element(first, first + n / 2, last,
       [&](const BuildRecord& p, const BuildRecord& q) { return p.Center(axis) < q.Center(axis); });
     r.Leaf = false;
+    r.SplitKnown = false;
   };
 
   if (level >= kMaxSahLevel || !(extent[longest] > 0.0))
@@ -961,19 +1022,23 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
     float Hi[DIM];
   };
   Bin bins[DIM][kBins];
+  // Small ranges use fewer bins: the sweep below costs the same for 5
+  // primitives as for 5 million, and near the leaves (most ranges) it was
+  // most of the build.
+  const int numBins = static_cast<int>(std::min<std::uint32_t>(kBins, std::max<std::uint32_t>(n, 4u)));
   float scale[DIM];
   for (int axis = 0; axis < DIM; ++axis)
   {
     // Float is enough to bin (the same function bins and partitions, so the
     // two always agree); the product is clamped below because rounding may
     // push the largest centre to kBins.
-    scale[axis] = extent[axis] > 0.0 ? static_cast<float>(kBins / extent[axis]) : 0.0f;
-    for (Bin& bin : bins[axis])
+    scale[axis] = extent[axis] > 0.0 ? static_cast<float>(numBins / extent[axis]) : 0.0f;
+    for (int b = 0; b < numBins; ++b)
     {
       for (int k = 0; k < DIM; ++k)
       {
-        bin.Lo[k] = std::numeric_limits<float>::infinity();
-        bin.Hi[k] = -std::numeric_limits<float>::infinity();
+        bins[axis][b].Lo[k] = std::numeric_limits<float>::infinity();
+        bins[axis][b].Hi[k] = -std::numeric_limits<float>::infinity();
       }
     }
   }
@@ -983,7 +1048,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
     // product (inf * 0): those go to the last bin (converting NaN to int is
     // undefined, and gave an index far outside the bins).
     const float b = (p.Center(axis) - cLo[axis]) * scale[axis];
-    return b < static_cast<float>(kBins - 1) ? (b > 0.0f ? static_cast<int>(b) : 0) : kBins - 1;
+    return b < static_cast<float>(numBins - 1) ? (b > 0.0f ? static_cast<int>(b) : 0) : numBins - 1;
   };
   for (const BuildRecord* p = first; p != last; ++p)
   {
@@ -1041,7 +1106,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
       hi[k] = -std::numeric_limits<float>::infinity();
     }
     std::uint32_t count = 0;
-    for (int b = kBins - 1; b > 0; --b)
+    for (int b = numBins - 1; b > 0; --b)
     {
       grow(lo, hi, bins[axis][b]);
       count += bins[axis][b].Count;
@@ -1053,7 +1118,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
       hi[k] = -std::numeric_limits<float>::infinity();
     }
     count = 0;
-    for (int b = 1; b < kBins; ++b) // split between bins b - 1 and b
+    for (int b = 1; b < numBins; ++b) // split between bins b - 1 and b
     {
       grow(lo, hi, bins[axis][b - 1]);
       count += bins[axis][b - 1].Count;
@@ -1086,9 +1151,35 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
     return;
   }
 
-  const BuildRecord* mid = std::partition(
-    first, last, [&](const BuildRecord& p) { return binOf(p, bestAxis) < bestBin; });
-  r.Mid = r.Begin + static_cast<std::uint32_t>(mid - first);
+  // Partition (Hoare's scheme), taking both sides' bounds on the way so that
+  // the children need no pass of their own.
+  auto goesLeft = [&](const BuildRecord& p) { return binOf(p, bestAxis) < bestBin; };
+  RangeBounds& left = r.SplitBounds[0];
+  RangeBounds& right = r.SplitBounds[1];
+  left.Reset();
+  right.Reset();
+  BuildRecord* i = first;
+  BuildRecord* j = last;
+  for (;;)
+  {
+    while (i < j && goesLeft(*i))
+    {
+      left.Add(*i++);
+    }
+    while (i < j && !goesLeft(*(j - 1)))
+    {
+      right.Add(*--j);
+    }
+    if (i == j)
+    {
+      break;
+    }
+    std::swap(*i, *(j - 1)); // *i belongs right and *(j - 1) left: swap them
+    left.Add(*i++);
+    right.Add(*--j);
+  }
+  r.SplitKnown = true;
+  r.Mid = r.Begin + static_cast<std::uint32_t>(i - first);
   r.Leaf = false;
   if (r.Mid == r.Begin || r.Mid == r.End)
   {
@@ -1132,8 +1223,22 @@ std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level, Node
     kids[pick].End = parent.Mid;
     kids[count].Begin = parent.Mid;
     kids[count].End = parent.End;
-    this->Evaluate(s, kids[pick], level + 1);
-    this->Evaluate(s, kids[count], level + 1);
+    kids[pick].Known = kids[count].Known = parent.SplitKnown;
+    kids[pick].Bounds = parent.SplitBounds[0];
+    kids[count].Bounds = parent.SplitBounds[1];
+    if (parent.End - parent.Begin >= kParallelBuildSize)
+    {
+      // Both halves of a large range at once: near the root, the splits
+      // made before any subtree task starts would otherwise run alone.
+      Range& a = kids[pick];
+      Range& b = kids[count];
+      RunBoth([&] { this->Evaluate(s, a, level + 1); }, [&] { this->Evaluate(s, b, level + 1); });
+    }
+    else
+    {
+      this->Evaluate(s, kids[pick], level + 1);
+      this->Evaluate(s, kids[count], level + 1);
+    }
     ++count;
   }
 
