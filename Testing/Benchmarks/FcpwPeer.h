@@ -36,7 +36,6 @@ struct PeerMesh
 struct PeerWalkProblem
 {
   std::function<double(const PeerPoint&)> Exact;
-  std::function<PeerPoint(const PeerPoint&)> Gradient;
 };
 
 struct PeerWalkResult

@@ -173,24 +173,7 @@ bool ParseOptions(int argc, char* argv[], Options& o, int& exitCode)
 
 // ---------------------------------------------------------------- peers
 
-// The fcpw builds this CPU can run, widest first (none without the sources).
-struct Peers
-{
-#ifdef GRIDFREE_WITH_FCPW
-  std::vector<std::unique_ptr<FcpwPeer>> Builds;
-#endif
-  std::size_t Count() const
-  {
-#ifdef GRIDFREE_WITH_FCPW
-    return this->Builds.size();
-#else
-    return 0;
-#endif
-  }
-};
-
 constexpr int kPeerSlots = 2; // fcpw w16, fcpw w8: the table's columns
-const char* const kPeerNames[kPeerSlots] = { "fcpw w16", "fcpw w8" };
 
 // Builds the peers for a mesh into their column slots (null: not available).
 #ifdef GRIDFREE_WITH_FCPW
@@ -636,10 +619,10 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o)
               "ε = 1e-3·R, one thread. Ours take u at the vertices (linear on each "
               "triangle), zombie calls u at the closest point. Set-up: ours Boundary::Set on "
               "all threads (hierarchy, bound grid); zombie's boundary handler (fcpw's "
-              "vectorized BVH, %s). RMSE of u over the points, and for the gradient rows of "
+              "vectorized BVH, the widest build this CPU runs). RMSE of u over the points, and for the gradient rows of "
               "|∇u| error; \"cost ratio\" is zombie's walk time × RMSE² over ours: above 1, "
               "ours reaches the same error sooner.\n\n",
-    o.Walks, o.WalkPoints, "widest this CPU runs");
+    o.Walks, o.WalkPoints);
   PrintHeader(
     { "mesh", "estimator", "set-up (s)", "walks/s", "steps/walk", "RMSE", "cost ratio" }, 2);
   for (const Mesh& mesh : meshes)
