@@ -908,7 +908,8 @@ void CheckHintedQueries(const Soup<DIM>& soup, const std::vector<Vec<DIM>>& quer
   // A stale hint (a point elsewhere, not proved) or one out of range is only
   // a starting guess: answers are unchanged.
   typename Bvh<DIM>::NearestHint stale;
-  stale.Primitive = static_cast<std::int64_t>(soup.Primitives.size()) + 5;
+  // (Leaves take whole groups of four slots, so there are fewer than 4n.)
+  stale.Primitive = 4 * static_cast<std::int64_t>(soup.Primitives.size()) + 5;
   stale.Exact = true;
   stale.Point = queries.front();
   for (const auto& x : queries)

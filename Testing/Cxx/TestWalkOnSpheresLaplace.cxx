@@ -95,9 +95,13 @@ TEST(LaplaceWalkOnSpheres2D, SquareMatchesHarmonicFunctions)
 {
   const SimplexMesh<2> square = MakeSquare(512);
   const auto points = RandomPointsInBox<2>(500, 0.9, 4);
+  // Four times the walks: near the square's sides e^x cos y is skewed by
+  // the rare walks that reach the far side (x = 1), and a sample of 512
+  // without one of them had |z| up to 9.6 (the mean of 20,000 walks there
+  // is unbiased); whether one is drawn changed with the step radii.
   for (const Exact<2>* g : { &Saddle2, &ExpTrig2, &Log2 })
   {
-    ExpectCalibrated(Check<2>(MakeBoundary<2>(square, *g), points, *g, Walks, 45));
+    ExpectCalibrated(Check<2>(MakeBoundary<2>(square, *g), points, *g, 4 * Walks, 45));
   }
 }
 

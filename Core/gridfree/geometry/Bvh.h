@@ -53,6 +53,7 @@
 #define GRIDFREE_GEOMETRY_BVH_H
 
 #include <gridfree/geometry/BoundingBox.h>
+#include <gridfree/geometry/BvhLeafFilter.h>
 #include <gridfree/geometry/ClosestPointResult.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/geometry/HugePageAllocator.h>
@@ -188,15 +189,15 @@ public:
   /// runs against fcpw as the control, 5-11% more near-surface queries and
   /// rays per second, the same uniform ones, 15-25% faster builds and 5
   /// bytes less per triangle.
-  static constexpr int kMaxLeafSize = 7;
-  static_assert(kMaxLeafSize <= 7, "leaf counts are stored in 3 bits");
+  static constexpr int kMaxLeafSize = 8;
+  static_assert(kMaxLeafSize <= 8, "leaf counts are stored in 3 bits, minus one");
 
   /// Builds the hierarchy; O(n log n). Replaces any previous content. Throws
   /// std::out_of_range for a vertex index outside `vertices`.
   void Build(const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives);
 
   bool Empty() const { return this->Primitives.empty(); }
-  std::size_t NumberOfPrimitives() const { return this->Primitives.size(); }
+  std::size_t NumberOfPrimitives() const { return this->Count; }
 
   /// Box of all vertices referenced by primitives (empty box if none).
   const BoundingBox<DIM>& Bounds() const { return this->Box; }
@@ -307,6 +308,7 @@ public:
   {
     return this->Nodes.capacity() * sizeof(Node) +
       this->Primitives.capacity() * sizeof(PrimitiveData) +
+      this->Groups.capacity() * sizeof(detail::BvhLeafGroup<DIM>) +
       this->OriginalIds.capacity() * sizeof(std::uint32_t);
   }
 
@@ -478,6 +480,10 @@ private:
   }
   void EncodeBoxes(Node& node, const Range* kids, int count) const;
 
+  /// Brings a child's data towards the cache: a node, or a leaf's
+  /// primitives (their float groups for nearest searches, which read those
+  /// first; their double data for rays).
+  template <bool Nearest>
   void Prefetch(std::uint32_t ref) const
   {
 #ifdef GRIDFREE_BVH_USE_SSE
@@ -485,8 +491,20 @@ private:
     std::size_t bytes;
     if (ref & kLeafFlag)
     {
-      p = reinterpret_cast<const char*>(this->Primitives.data() + ((ref & ~kLeafFlag) >> 3));
-      bytes = (ref & 7u) * sizeof(PrimitiveData);
+      const std::uint32_t group = (ref & ~kLeafFlag) >> 3;
+      const std::uint32_t count = (ref & 7u) + 1;
+      if (Nearest)
+      {
+        const char* g = reinterpret_cast<const char*>(this->Groups.data() + group);
+        const std::size_t gBytes = (count + 3) / 4 * sizeof(detail::BvhLeafGroup<DIM>);
+        for (std::size_t off = 0; off < gBytes; off += 64)
+        {
+          _mm_prefetch(g + off, _MM_HINT_T0);
+        }
+        _mm_prefetch(g + gBytes - 1, _MM_HINT_T0);
+      }
+      p = reinterpret_cast<const char*>(this->Primitives.data() + 4 * std::size_t(group));
+      bytes = count * sizeof(PrimitiveData);
     }
     else
     {
@@ -614,6 +632,7 @@ private:
   /// key, are prefetched (random queries over a large mesh are bound by
   /// memory latency, so the misses should overlap); all but the nearest are
   /// pushed, farthest first. Returns the nearest, or kEmptyChild if none.
+  template <bool Nearest>
   std::uint32_t VisitSorted(
     const Node& node, int mask, const float* keys, Entry* stack, int& top) const
   {
@@ -639,7 +658,7 @@ private:
     }
     for (int j = 0; j < numHits; ++j)
     {
-      this->Prefetch(hits[j].Ref);
+      this->template Prefetch<Nearest>(hits[j].Ref);
     }
     for (int j = numHits - 1; j > 0; --j)
     {
@@ -650,8 +669,8 @@ private:
 
   /// Box of the primitives below a child reference; false if an invariant of
   /// Validate() fails in that subtree.
-  bool ValidateSubtree(
-    std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const;
+  bool ValidateSubtree(std::uint32_t ref, int depth, std::vector<char>& seenGroups,
+    std::vector<char>& seenIds, BoundingBox<DIM>& content) const;
 
   /// State of a relaxed nearest search (see DistanceLowerBound).
   struct Relaxation
@@ -819,9 +838,14 @@ private:
   // them (HugePageAllocator.h).
   std::vector<Node, HugePageAllocator<Node>> Nodes;
   std::vector<PrimitiveData, HugePageAllocator<PrimitiveData>> Primitives; // in leaf order
+  // The same primitives in float, four per group (BvhLeafFilter.h): nearest
+  // searches read these first and test in double only what they cannot skip.
+  std::vector<detail::BvhLeafGroup<DIM>, HugePageAllocator<detail::BvhLeafGroup<DIM>>> Groups;
+  double VertexMargin = 0.0; // bound of the float vertices' displacement
   std::vector<std::uint32_t> OriginalIds; // leaf order -> index given to Build (< 2^28)
   BoundingBox<DIM> Box;
   Vec<DIM> Center = Vec<DIM>::Zero(); // origin of the node coordinates
+  std::size_t Count = 0;              // primitives given to Build
 };
 
 //------------------------------------------------------------------------------
@@ -831,7 +855,10 @@ void Bvh<DIM>::Build(
 {
   this->Nodes.clear();
   this->Primitives.clear();
+  this->Groups.clear();
   this->OriginalIds.clear();
+  this->VertexMargin = 0.0;
+  this->Count = 0;
   this->Box = BoundingBox<DIM>();
   this->Center.setZero();
 
@@ -844,6 +871,7 @@ void Bvh<DIM>::Build(
   {
     throw std::length_error("gridfree::Bvh: too many primitives");
   }
+  this->Count = n;
 
   // Records (and the boundary box) in blocks on all threads; block boxes are
   // merged in order, and min / max are exact, so the box is the same on any
@@ -911,7 +939,7 @@ void Bvh<DIM>::Build(
   {
     Node node;
     this->EncodeBoxes(node, &root, 1);
-    node.Child[0] = kLeafFlag | (root.Begin << 3) | (root.End - root.Begin);
+    node.Child[0] = kLeafFlag | (root.Begin << 3) | (root.End - root.Begin - 1);
     this->Nodes.push_back(node);
   }
   else
@@ -919,26 +947,104 @@ void Bvh<DIM>::Build(
     this->BuildNode(s, root, 0, this->Nodes);
   }
   this->Nodes.shrink_to_fit();
-  // Only the leaf order is needed from here on: release the records before
-  // the primitives are copied, to lower the peak memory of large builds.
-  this->OriginalIds.resize(n);
-  ForEachBlock(n, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
+
+  // The leaves in record order (depth first, children in order), each given
+  // slots for whole groups of four (BvhLeafFilter.h) so that its float copies
+  // start a group of their own. The leaf references, which hold the range of
+  // records while building, are rewritten to hold the first group.
+  struct LeafSlots
+  {
+    std::uint32_t* Ref;
+    std::uint32_t Begin; // first record
+    std::uint32_t Count;
+    std::uint32_t Group; // first group; slots start at 4 * Group
+  };
+  std::vector<LeafSlots> leaves;
+  leaves.reserve(n / 3 + 1);
+  std::uint32_t groups = 0;
+  auto collect = [&](auto& self, std::uint32_t index) -> void
+  {
+    for (std::uint32_t& c : this->Nodes[index].Child)
     {
-      this->OriginalIds[i] = s.Records[i].Id;
+      if (c == kEmptyChild)
+      {
+        continue;
+      }
+      if (!(c & kLeafFlag))
+      {
+        self(self, c);
+        continue;
+      }
+      const std::uint32_t count = (c & 7u) + 1;
+      leaves.push_back(LeafSlots{ &c, (c & ~kLeafFlag) >> 3, count, groups });
+      groups += (count + 3) / 4;
     }
+  };
+  collect(collect, 0u);
+  const std::size_t slots = std::size_t(4) * groups;
+  auto forEachLeaf = [&](const auto& body)
+  {
+    ForEachBlock(leaves.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t l = begin; l < end; ++l)
+      {
+        body(leaves[l]);
+      }
+    });
+  };
+
+  // Only the leaf order is needed from here on: release the records before
+  // the primitives are copied, to lower the peak memory of large builds. A
+  // leaf's unused slots repeat its first primitive, so that every slot is a
+  // real primitive (a hint may name any slot).
+  this->OriginalIds.resize(slots);
+  forEachLeaf([&](const LeafSlots& leaf) {
+    for (std::uint32_t j = 0; j < 4 * ((leaf.Count + 3) / 4); ++j)
+    {
+      this->OriginalIds[4 * std::size_t(leaf.Group) + j] =
+        s.Records[leaf.Begin + (j < leaf.Count ? j : 0)].Id;
+    }
+    *leaf.Ref = kLeafFlag | (leaf.Group << 3) | (leaf.Count - 1);
   });
   std::vector<BuildRecord>().swap(s.Records);
 
   // Copy the primitives in leaf order so that a leaf is contiguous in memory.
-  this->Primitives.resize(n);
-  ForEachBlock(n, [&](std::size_t, std::size_t begin, std::size_t end) {
+  this->Primitives.resize(slots);
+  ForEachBlock(slots, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
       const auto& ids = primitives[static_cast<std::size_t>(this->OriginalIds[i])];
       for (int k = 0; k < DIM; ++k)
       {
         this->Primitives[i].V[k] = vertices[ids[k]];
+      }
+    }
+  });
+
+  // Their float copies for the leaf filter, relative to the centre and
+  // rounded to nearest: each coordinate moves by at most 2^-24 of the largest
+  // one (plus the recentering's 2^-53), so a vertex by less than 2^-23 of it.
+  double largest = 0.0;
+  for (int k = 0; k < DIM; ++k)
+  {
+    largest = std::max({ largest, std::abs(this->Box.Min[k] - this->Center[k]),
+      std::abs(this->Box.Max[k] - this->Center[k]) });
+  }
+  this->VertexMargin = largest * 0x1p-23 * (1.0 + 0x1p-20);
+  this->Groups.resize(groups);
+  ForEachBlock(this->Groups.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t g = begin; g < end; ++g)
+    {
+      detail::BvhLeafGroup<DIM>& group = this->Groups[g];
+      for (int lane = 0; lane < 4; ++lane)
+      {
+        for (int v = 0; v < DIM; ++v)
+        {
+          for (int k = 0; k < DIM; ++k)
+          {
+            group.V[v][k][lane] =
+              static_cast<float>(this->Primitives[4 * g + lane].V[v][k] - this->Center[k]);
+          }
+        }
       }
     }
   });
@@ -951,10 +1057,11 @@ template <int DIM>
 void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
 {
   constexpr int kBins = 16;
-  // Relative cost of descending one level vs. one primitive test: a node
-  // visit is mostly a cache miss, like the first triangle of a leaf, and the
-  // triangles after it in the leaf come with it.
+  // Relative cost of descending one level vs. testing one group of four
+  // primitives in float (BvhLeafFilter.h): both are mostly a cache miss.
+  // Leaves cost their number of groups, so the heuristic fills whole groups.
   constexpr double kTraversalCost = 2.0;
+  auto groupsOf = [](std::uint32_t count) { return static_cast<double>((count + 3) / 4); };
 
   BuildRecord* const first = s.Records.data() + r.Begin;
   BuildRecord* const last = s.Records.data() + r.End;
@@ -1114,7 +1221,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
     {
       grow(lo, hi, bins[axis][b]);
       count += bins[axis][b].Count;
-      rightCost[b] = count ? halfArea(lo, hi) * count : 0.0;
+      rightCost[b] = count ? halfArea(lo, hi) * groupsOf(count) : 0.0;
     }
     for (int k = 0; k < DIM; ++k)
     {
@@ -1130,7 +1237,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
       {
         continue;
       }
-      const double cost = halfArea(lo, hi) * count + rightCost[b];
+      const double cost = halfArea(lo, hi) * groupsOf(count) + rightCost[b];
       if (cost < bestCost)
       {
         bestCost = cost;
@@ -1150,7 +1257,7 @@ void Bvh<DIM>::Evaluate(BuildState& s, Range& r, int level) const
   }
   const double area = r.Box.HalfArea();
   const double splitCost = kTraversalCost + (area > 0.0 ? bestCost / area : 0.0);
-  if (!mustSplit && static_cast<double>(n) <= splitCost)
+  if (!mustSplit && groupsOf(n) <= splitCost)
   {
     return;
   }
@@ -1255,7 +1362,7 @@ std::uint32_t Bvh<DIM>::BuildNode(BuildState& s, const Range& r, int level, Node
     const Range& kid = kids[i];
     if (kid.Leaf)
     {
-      node.Child[i] = kLeafFlag | (kid.Begin << 3) | (kid.End - kid.Begin);
+      node.Child[i] = kLeafFlag | (kid.Begin << 3) | (kid.End - kid.Begin - 1);
     }
   }
   out.push_back(node);
@@ -1433,12 +1540,21 @@ std::int64_t Bvh<DIM>::FindNearestBaseline(
   // The query in node coordinates, as a float interval [xlo, xhi] that
   // contains the exact x - Center despite the rounding of the subtraction.
   float xlo[DIM], xhi[DIM];
+  // For the leaf filter: the query rounded to nearest, and the bound of its
+  // displacement plus the vertices' (below 2^-23 of the largest coordinate).
+  float xq[DIM];
+  double largest = 0.0;
   for (int k = 0; k < DIM; ++k)
   {
     const double y = x[k] - this->Center[k];
     xlo[k] = detail::FloatDown(y - std::abs(y) * 0x1p-50);
     xhi[k] = detail::FloatUp(y + std::abs(y) * 0x1p-50);
+    xq[k] = static_cast<float>(y);
+    largest = std::max(largest, std::abs(y));
   }
+  const double margin = this->VertexMargin + largest * 0x1p-23 * (1.0 + 0x1p-20);
+  double filterBest2 = std::numeric_limits<double>::quiet_NaN(); // best2 of filterR2
+  float filterR2 = 0.0f;
 #ifdef GRIDFREE_BVH_USE_SSE
   __m128 qlo[DIM], qhi[DIM];
   for (int k = 0; k < DIM; ++k)
@@ -1467,21 +1583,66 @@ std::int64_t Bvh<DIM>::FindNearestBaseline(
     {
       if (ref & kLeafFlag)
       {
-        const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
-        const std::uint32_t end = begin + (ref & 7u);
-        for (std::uint32_t i = begin; i < end; ++i)
+        // The leaf's float groups skip the primitives they prove farther
+        // than best2 (BvhLeafFilter.h); the others are measured in double.
+        // All groups' bounds and masks come first: then no group's test
+        // waits for another group's double tests.
+        const std::uint32_t first = (ref & ~kLeafFlag) >> 3;
+        const std::uint32_t count = (ref & 7u) + 1;
+        const std::uint32_t numGroups = (count + 3) / 4;
+        detail::BvhLeafBounds bounds[(kMaxLeafSize + 3) / 4];
+        int keep[(kMaxLeafSize + 3) / 4];
+        for (std::uint32_t j = 0; j < numGroups; ++j)
         {
-          const double d2 = this->Primitives[i].SquaredDistance(x, best2);
-          if (d2 < best2)
+          detail::LeafFilterBounds<DIM>(this->Groups[first + j], xq, bounds[j]);
+          keep[j] = (1 << std::min(count - 4 * j, 4u)) - 1;
+        }
+        if (!(best2 < std::numeric_limits<double>::infinity()))
+        {
+          // Nothing to filter against yet: the primitive nearest in float
+          // is measured first, and its distance filters the others.
+          std::uint32_t pick = 0;
+          for (std::uint32_t l = 1; l < count; ++l)
           {
-            best2 = d2;
-            best = i;
+            pick = bounds[l / 4].Norm2[l % 4] < bounds[pick / 4].Norm2[pick % 4] ? l : pick;
           }
-          else if (best < 0)
+          const std::uint32_t i = 4 * first + pick;
+          const double d2 = this->Primitives[i].SquaredDistance(x, best2);
+          best2 = d2 < best2 ? d2 : best2; // (an overflow to NaN keeps inf)
+          best = i;                        // (kept even then)
+          keep[pick / 4] &= ~(1 << (pick % 4));
+        }
+        if (best2 < std::numeric_limits<double>::infinity())
+        {
+          if (filterBest2 != best2)
           {
-            // Beyond ~1e154 squared distances overflow to inf (or NaN): keep
-            // the first primitive then, so that a query always gets one.
-            best = i;
+            filterBest2 = best2;
+            filterR2 = detail::LeafFilterRadius2(best2, margin);
+          }
+          for (std::uint32_t j = 0; j < numGroups; ++j)
+          {
+            keep[j] &= ~detail::LeafFilterSkipMask(bounds[j], filterR2);
+          }
+        }
+        for (std::uint32_t j = 0; j < numGroups; ++j)
+        {
+          const std::uint32_t base = (first + j) << 2;
+          for (int lanes = keep[j]; lanes; lanes &= lanes - 1)
+          {
+            const std::uint32_t i = base + static_cast<std::uint32_t>(CountTrailingZeros(lanes));
+            const double d2 = this->Primitives[i].SquaredDistance(x, best2);
+            if (d2 < best2)
+            {
+              best2 = d2;
+              best = i;
+            }
+            else if (best < 0)
+            {
+              // Beyond ~1e154 squared distances overflow to inf (or NaN):
+              // keep the first primitive then, so that a query always gets
+              // one (nothing is skipped while best2 is inf).
+              best = i;
+            }
           }
         }
         tighten();
@@ -1533,10 +1694,10 @@ std::int64_t Bvh<DIM>::FindNearestBaseline(
       if ((mask & (mask - 1)) == 0) // a single child: nothing to sort or push
       {
         ref = node.Child[CountTrailingZeros(mask)];
-        this->Prefetch(ref);
+        this->template Prefetch<true>(ref);
         continue;
       }
-      ref = this->VisitSorted(node, mask, dist2, stack, top);
+      ref = this->template VisitSorted<true>(node, mask, dist2, stack, top);
     }
   }
   if (relax)
@@ -1560,38 +1721,79 @@ bool Bvh<DIM>::Validate() const
 {
   if (this->Primitives.empty())
   {
-    return this->Nodes.empty() && this->OriginalIds.empty();
+    return this->Nodes.empty() && this->OriginalIds.empty() && this->Groups.empty() &&
+      this->Count == 0;
   }
-  if (this->Nodes.empty() || this->OriginalIds.size() != this->Primitives.size())
+  if (this->Nodes.empty() || this->OriginalIds.size() != this->Primitives.size() ||
+    this->Primitives.size() != 4 * this->Groups.size())
   {
     return false;
   }
-  std::vector<char> seen(this->Primitives.size(), 0);
+  // The leaf filter's float copies are the primitives rounded to nearest.
+  for (std::size_t i = 0; i < this->Primitives.size(); ++i)
+  {
+    for (int v = 0; v < DIM; ++v)
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        if (this->Groups[i / 4].V[v][k][i % 4] !=
+          static_cast<float>(this->Primitives[i].V[v][k] - this->Center[k]))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  // Every group belongs to exactly one leaf, and every primitive given to
+  // Build is in exactly one leaf slot.
+  std::vector<char> seenGroups(this->Groups.size(), 0);
+  std::vector<char> seenIds(this->Count, 0);
   BoundingBox<DIM> content;
-  if (!this->ValidateSubtree(0u, 1, seen, content))
+  if (!this->ValidateSubtree(0u, 1, seenGroups, seenIds, content))
   {
     return false;
   }
-  return std::all_of(seen.begin(), seen.end(), [](char c) { return c == 1; });
+  auto once = [](char c) { return c == 1; };
+  return std::all_of(seenGroups.begin(), seenGroups.end(), once) &&
+    std::all_of(seenIds.begin(), seenIds.end(), once);
 }
 
 template <int DIM>
-bool Bvh<DIM>::ValidateSubtree(
-  std::uint32_t ref, int depth, std::vector<char>& seen, BoundingBox<DIM>& content) const
+bool Bvh<DIM>::ValidateSubtree(std::uint32_t ref, int depth, std::vector<char>& seenGroups,
+  std::vector<char>& seenIds, BoundingBox<DIM>& content) const
 {
   content = BoundingBox<DIM>();
   if (ref & kLeafFlag)
   {
-    const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
-    const std::uint32_t count = ref & 7u;
-    if (count == 0 || count > static_cast<std::uint32_t>(kMaxLeafSize) ||
-      begin + count > this->Primitives.size())
+    const std::size_t group = (ref & ~kLeafFlag) >> 3;
+    const std::size_t count = (ref & 7u) + 1;
+    const std::size_t groups = (count + 3) / 4;
+    if (group + groups > this->Groups.size())
     {
       return false;
     }
-    for (std::uint32_t i = begin; i < begin + count; ++i)
+    for (std::size_t g = group; g < group + groups; ++g)
     {
-      seen[i]++;
+      seenGroups[g]++;
+    }
+    const std::size_t begin = 4 * group;
+    for (std::size_t i = begin; i < begin + 4 * groups; ++i)
+    {
+      if (i >= begin + count)
+      {
+        // Unused slots repeat the leaf's first primitive.
+        if (this->OriginalIds[i] != this->OriginalIds[begin] ||
+          std::memcmp(&this->Primitives[i], &this->Primitives[begin], sizeof(PrimitiveData)) != 0)
+        {
+          return false;
+        }
+        continue;
+      }
+      if (this->OriginalIds[i] >= this->Count)
+      {
+        return false;
+      }
+      seenIds[this->OriginalIds[i]]++;
       for (const auto& v : this->Primitives[i].V)
       {
         content.Expand(v);
@@ -1613,7 +1815,7 @@ bool Bvh<DIM>::ValidateSubtree(
       continue;
     }
     BoundingBox<DIM> box;
-    if (!this->ValidateSubtree(node.Child[c], depth + 1, seen, box))
+    if (!this->ValidateSubtree(node.Child[c], depth + 1, seenGroups, seenIds, box))
     {
       return false;
     }
@@ -1784,8 +1986,8 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
     {
       if (ref & kLeafFlag)
       {
-        const std::uint32_t begin = (ref & ~kLeafFlag) >> 3;
-        const std::uint32_t end = begin + (ref & 7u);
+        const std::uint32_t begin = ((ref & ~kLeafFlag) >> 3) * 4;
+        const std::uint32_t end = begin + (ref & 7u) + 1;
         const std::int64_t before = best;
         for (std::uint32_t i = begin; i < end; ++i)
         {
@@ -1813,7 +2015,7 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
       const Node& node = this->Nodes[ref];
       float entries[kWidth];
       const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
-      ref = this->VisitSorted(node, mask, entries, stack, top);
+      ref = this->template VisitSorted<false>(node, mask, entries, stack, top);
       if (ref == kEmptyChild)
       {
         break;
