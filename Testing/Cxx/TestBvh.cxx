@@ -986,3 +986,165 @@ TEST(Bvh, ParallelBuildIsTheSameOnAnyThreadCount)
     }
   }
 }
+
+// The float leaf filter (BvhLeafFilter.h) skips a primitive only when it is
+// proved farther than the radius asked about. Asking exactly at each
+// primitive's true distance (and one ulp below it) must never skip it, which
+// a bound without its rounding margins would break; asking at half the
+// distance must skip nearly every proper primitive, or the filter is idle.
+template <int DIM>
+void CheckLeafFilter(std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 5);
+  int proper = 0, skippedAtHalf = 0;
+  for (int round = 0; round < 4000; ++round)
+  {
+    // A centre far from the origin and a scale from tiny to large, so that
+    // the float copies' displacement matters.
+    const double scale = std::pow(10.0, 6.0 * unit(rng));
+    Vec<DIM> center;
+    for (int k = 0; k < DIM; ++k)
+    {
+      center[k] = 1e3 * scale * unit(rng);
+    }
+    std::array<std::array<Vec<DIM>, DIM>, 4> prims;
+    double largest = 0.0;
+    for (auto& p : prims)
+    {
+      for (int v = 0; v < DIM; ++v)
+      {
+        for (int k = 0; k < DIM; ++k)
+        {
+          p[v][k] = center[k] + scale * unit(rng);
+        }
+      }
+      switch (kind(rng))
+      {
+        case 0: // degenerate: all vertices equal
+          for (int v = 1; v < DIM; ++v)
+          {
+            p[v] = p[0];
+          }
+          break;
+        case 1: // degenerate: collinear (in 3D) or a point (in 2D)
+          p[DIM - 1] = p[0] + 0.5 * (p[1] - p[0]);
+          break;
+        case 2: // tiny next to its distance
+          for (int v = 1; v < DIM; ++v)
+          {
+            p[v] = p[0] + 1e-9 * (p[v] - p[0]);
+          }
+          break;
+        default:
+          break;
+      }
+      for (const auto& v : p)
+      {
+        largest = std::max(largest, (v - center).cwiseAbs().maxCoeff());
+      }
+    }
+    gridfree::detail::BvhLeafGroup<DIM> group;
+    for (int lane = 0; lane < 4; ++lane)
+    {
+      for (int v = 0; v < DIM; ++v)
+      {
+        for (int k = 0; k < DIM; ++k)
+        {
+          group.V[v][k][lane] = static_cast<float>(prims[lane][v][k] - center[k]);
+        }
+      }
+    }
+    Vec<DIM> x;
+    for (int k = 0; k < DIM; ++k)
+    {
+      // Queries near, on and far from the primitives.
+      x[k] = center[k] + scale * unit(rng) * std::pow(10.0, 2.0 * unit(rng) - 1.0);
+    }
+    if (round % 7 == 0)
+    {
+      x = prims[0][0] + 0.3 * (prims[0][1] - prims[0][0]); // on a primitive
+    }
+    if (round % 7 == 1 || round % 7 == 2)
+    {
+      // Just off a primitive's interior, far nearer than its size: the
+      // margins then matter most (the dot products cancel, and the float
+      // copies' displacement is large next to the distance).
+      Vec<DIM> normal;
+      if constexpr (DIM == 3)
+      {
+        normal = (prims[1][1] - prims[1][0]).cross(prims[1][2] - prims[1][0]);
+      }
+      else
+      {
+        normal = Vec2(prims[1][0][1] - prims[1][1][1], prims[1][1][0] - prims[1][0][0]);
+      }
+      Vec<DIM> inside = prims[1][0];
+      for (int v = 1; v < DIM; ++v)
+      {
+        inside += (0.4 / DIM) * (prims[1][v] - prims[1][0]);
+      }
+      if (normal.norm() > 0.0)
+      {
+        x = inside + scale * std::pow(10.0, -7.0 * std::abs(unit(rng))) * normal.normalized();
+      }
+    }
+    float q[DIM];
+    double queryLargest = 0.0;
+    for (int k = 0; k < DIM; ++k)
+    {
+      const double y = x[k] - center[k];
+      q[k] = static_cast<float>(y);
+      queryLargest = std::max(queryLargest, std::abs(y));
+    }
+    // The margins the hierarchy uses (Bvh.h): vertices and query.
+    const double margin =
+      (largest * (1.0 + 0x1p-40) + queryLargest) * 0x1p-23 * (1.0 + 0x1p-20);
+    gridfree::detail::BvhLeafBounds bounds;
+    gridfree::detail::LeafFilterBounds<DIM>(group, q, bounds);
+    double d2[4];
+    for (int lane = 0; lane < 4; ++lane)
+    {
+      if constexpr (DIM == 3)
+      {
+        d2[lane] = gridfree::SquaredDistanceToTriangle(x, prims[lane][0], prims[lane][1], prims[lane][2]);
+      }
+      else
+      {
+        d2[lane] = gridfree::SquaredDistanceToSegment<2>(x, prims[lane][0], prims[lane][1]);
+      }
+    }
+    for (int lane = 0; lane < 4; ++lane)
+    {
+      for (const double r2 : { d2[lane], std::nextafter(d2[lane], 0.0) })
+      {
+        const int skip = gridfree::detail::LeafFilterSkipMask(bounds, gridfree::detail::LeafFilterRadius2(r2, margin));
+        ASSERT_FALSE(skip >> lane & 1) << "lane " << lane << " skipped at its own distance "
+                                       << std::sqrt(d2[lane]) << ", scale " << scale;
+        for (int other = 0; other < 4; ++other)
+        {
+          if (skip >> other & 1)
+          {
+            ASSERT_GT(d2[other], r2) << "lane " << other << " skipped but nearer";
+          }
+        }
+      }
+      const double size = (prims[lane][1] - prims[lane][0]).norm();
+      if (size > 1e-3 * scale && d2[lane] > 1e-6 * scale * scale)
+      {
+        ++proper;
+        skippedAtHalf += gridfree::detail::LeafFilterSkipMask(bounds,
+                           gridfree::detail::LeafFilterRadius2(0.25 * d2[lane], margin)) >> lane & 1;
+      }
+    }
+  }
+  ASSERT_GT(proper, 1000);
+  EXPECT_GT(skippedAtHalf, 0.99 * proper);
+}
+
+TEST(Bvh, LeafFilterSkipsOnlyWhatIsProvedFarther)
+{
+  CheckLeafFilter<3>(71);
+  CheckLeafFilter<2>(72);
+}
