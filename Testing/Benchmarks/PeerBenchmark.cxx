@@ -484,7 +484,8 @@ void QueriesPart(const std::vector<Mesh>& meshes, const Options& o)
   std::printf("\n## Build and memory\n\nBest of 3 builds, alternating. Ours on all threads (subtrees of 2^12 triangles or more "
               "build in parallel), fcpw's on one (its builder is sequential). Ours: "
               "Bvh<3>::Build and MemoryBytes "
-              "(nodes, triangles in leaf order with their vertices inline, original ids). "
+              "(nodes, triangles in leaf order with their vertices inline in double and in "
+              "float groups of four, original ids). "
               "fcpw: filling its scene and building its vectorized BVH; its bytes are the heap "
               "its scene holds after the build (malloc statistics: its vertex and triangle "
               "copies, primitives and nodes).\n\n");

@@ -24,6 +24,13 @@
 //   inlined (no index indirection), so a leaf is one contiguous memory block.
 //   Nodes and primitives live on huge pages where the system grants them
 //   (HugePageAllocator.h): fewer page walks for random queries.
+// * Leaves hold up to 8 primitives in whole groups of four slots (a leaf's
+//   unused slots repeat its first primitive). Nearest searches first test a
+//   leaf's groups in float, four primitives per SIMD instruction sequence
+//   (BvhLeafFilter.h): a rigorous lower bound skips the primitives proved
+//   farther than the nearest one so far, so the exact tests, their answers
+//   and their ties are those of an unfiltered search on every instruction
+//   set. The SAH counts a leaf's cost in groups.
 // * Primitive distances are computed in double with the kernels of
 //   ClosestPointPrimitives.h. Triangles first get a plane-distance test (a
 //   lower bound, with a margin for its own rounding) that rejects most of the
@@ -55,6 +62,7 @@
 #include <gridfree/geometry/BoundingBox.h>
 #include <gridfree/geometry/BvhLeafFilter.h>
 #include <gridfree/geometry/ClosestPointResult.h>
+#include <gridfree/geometry/FloatRounding.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/geometry/HugePageAllocator.h>
 #include <gridfree/geometry/RayKernels.h>
@@ -122,42 +130,6 @@ struct BvhPrimitive<3>
   }
 };
 
-/// The next float below a float that is not NaN: one step of its bit
-/// pattern, which orders like the value within each sign. (std::nextafter
-/// was a tenth of a walk step's instructions.)
-inline float NextFloatDown(float f)
-{
-  if (f == 0.0f)
-  {
-    return -std::numeric_limits<float>::denorm_min();
-  }
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  bits = f > 0.0f ? bits - 1u : bits + 1u;
-  std::memcpy(&f, &bits, sizeof bits);
-  return f;
-}
-
-/// The next float above a float that is not NaN.
-inline float NextFloatUp(float f)
-{
-  return -NextFloatDown(-f);
-}
-
-/// Largest float <= v (directed rounding without touching the FPU mode).
-inline float FloatDown(double v)
-{
-  const float f = static_cast<float>(v);
-  return static_cast<double>(f) > v ? NextFloatDown(f) : f;
-}
-
-/// Smallest float >= v.
-inline float FloatUp(double v)
-{
-  const float f = static_cast<float>(v);
-  return static_cast<double>(f) < v ? NextFloatUp(f) : f;
-}
-
 /// Float threshold T such that a float box distance d2f > T proves that the
 /// exact box distance exceeds best2 (no primitive inside can be closer).
 ///
@@ -185,10 +157,10 @@ public:
   using Primitive = std::array<std::int64_t, DIM>;
 
   /// Maximum number of primitives per leaf (the SAH below decides the
-  /// size). Up to 7 rather than 4, with the SAH's traversal cost 2: in A/B
-  /// runs against fcpw as the control, 5-11% more near-surface queries and
-  /// rays per second, the same uniform ones, 15-25% faster builds and 5
-  /// bytes less per triangle.
+  /// size): two groups of the leaf filter (BvhLeafFilter.h). With the filter
+  /// and a leaf cost counted in groups, leaves of up to 8 gave 45-65% more
+  /// uniform closest-point queries per second than leaves of 3 tested one
+  /// primitive at a time, and near-surface rates within 8%.
   static constexpr int kMaxLeafSize = 8;
   static_assert(kMaxLeafSize <= 8, "leaf counts are stored in 3 bits, minus one");
 
@@ -303,7 +275,8 @@ public:
   }
 
   /// Bytes held by the hierarchy: nodes, primitives in leaf order (with
-  /// their vertices inlined) and the map back to the original indices.
+  /// their vertices inlined, in double and in float groups of four) and the
+  /// map back to the original indices.
   std::size_t MemoryBytes() const
   {
     return this->Nodes.capacity() * sizeof(Node) +
@@ -325,13 +298,16 @@ public:
 
   /// Checks the invariants that exact queries rely on: every decoded child box
   /// encloses the primitives below it (outward rounding), every primitive is
-  /// in exactly one leaf of 1..kMaxLeafSize primitives, and the depth fits the
-  /// traversal stack. Meant for tests; O(n log n).
+  /// in exactly one leaf slot and every group in one leaf, a leaf's unused
+  /// slots repeat its first primitive, the float groups are the primitives
+  /// rounded to nearest, and the depth fits the traversal stack. Meant for
+  /// tests; O(n log n).
   bool Validate() const;
 
 private:
   /// Child reference: internal node index, or a leaf (high bit set) holding
-  /// a start offset into Primitives (bits 3..30) and a count (bits 0..2).
+  /// its first group (bits 3..30; its primitives start at slot 4 * group)
+  /// and its count minus one (bits 0..2).
   static constexpr std::uint32_t kLeafFlag = 0x80000000u;
   static constexpr std::uint32_t kEmptyChild = 0xffffffffu;
   static constexpr std::size_t kMaxPrimitives = std::size_t(1) << 28;
@@ -481,8 +457,8 @@ private:
   void EncodeBoxes(Node& node, const Range* kids, int count) const;
 
   /// Brings a child's data towards the cache: a node, or a leaf's
-  /// primitives (their float groups for nearest searches, which read those
-  /// first; their double data for rays).
+  /// primitives in double, and for nearest searches (which read them first)
+  /// also their float groups.
   template <bool Nearest>
   void Prefetch(std::uint32_t ref) const
   {

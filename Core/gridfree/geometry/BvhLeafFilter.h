@@ -32,7 +32,7 @@
 #ifndef GRIDFREE_GEOMETRY_BVH_LEAF_FILTER_H
 #define GRIDFREE_GEOMETRY_BVH_LEAF_FILTER_H
 
-#include <gridfree/math/Vector.h>
+#include <gridfree/geometry/FloatRounding.h>
 
 #include <cfloat>
 #include <cmath>
@@ -66,20 +66,7 @@ inline float LeafFilterRadius2(double best2, double margin)
 {
   const double r = std::sqrt(best2) * (1.0 + 0x1p-50) + margin;
   const double r2 = r * r * (1.0 + 0x1p-40) * (1.0 + 0x1p-19);
-  if (!(r2 < static_cast<double>(FLT_MAX)))
-  {
-    return std::numeric_limits<float>::infinity();
-  }
-  // Rounded up: one step of the bit pattern above a positive float.
-  float f = static_cast<float>(r2);
-  if (static_cast<double>(f) < r2)
-  {
-    std::uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    ++bits;
-    std::memcpy(&f, &bits, sizeof bits);
-  }
-  return f;
+  return r2 < static_cast<double>(FLT_MAX) ? FloatUp(r2) : std::numeric_limits<float>::infinity();
 }
 
 /// Lane arithmetic of the filter: four lanes with SSE, or one float. Both
