@@ -1,10 +1,12 @@
 // Random boundary soups for the BVH tests: primitives of widely varying
 // sizes, some sharing vertices like a mesh, mixed with degenerate and
-// duplicated ones (zero length or area, identical or collinear vertices).
+// duplicated ones (zero length or area, identical or collinear vertices);
+// and the float group of four primitives the leaf filter tests read.
 #ifndef GRIDFREE_TESTING_RANDOMSOUPS_H
 #define GRIDFREE_TESTING_RANDOMSOUPS_H
 
 #include <gridfree/geometry/Bvh.h>
+#include <gridfree/geometry/BvhLeafFilter.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/math/Vector.h>
 
@@ -25,6 +27,26 @@ struct Soup
   std::vector<Vec<DIM>> Vertices;
   std::vector<typename Bvh<DIM>::Primitive> Primitives;
 };
+
+//------------------------------------------------------------------------------
+// The float copies of four primitives (prims[lane][vertex]) relative to a
+// hierarchy centre, rounded to nearest as Bvh.h stores a leaf group.
+template <int DIM, class Prims>
+gridfree::detail::BvhLeafGroup<DIM> LeafGroupOf(const Prims& prims, const Vec<DIM>& center)
+{
+  gridfree::detail::BvhLeafGroup<DIM> group;
+  for (int lane = 0; lane < 4; ++lane)
+  {
+    for (int v = 0; v < DIM; ++v)
+    {
+      for (int k = 0; k < DIM; ++k)
+      {
+        group.V[v][k][lane] = static_cast<float>(prims[lane][v][k] - center[k]);
+      }
+    }
+  }
+  return group;
+}
 
 //------------------------------------------------------------------------------
 // Random soups: mostly regular primitives of widely varying sizes, some

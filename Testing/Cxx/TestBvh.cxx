@@ -1045,17 +1045,7 @@ void CheckLeafFilter(std::uint64_t seed)
         largest = std::max(largest, (v - center).cwiseAbs().maxCoeff());
       }
     }
-    gridfree::detail::BvhLeafGroup<DIM> group;
-    for (int lane = 0; lane < 4; ++lane)
-    {
-      for (int v = 0; v < DIM; ++v)
-      {
-        for (int k = 0; k < DIM; ++k)
-        {
-          group.V[v][k][lane] = static_cast<float>(prims[lane][v][k] - center[k]);
-        }
-      }
-    }
+    const auto group = gridfree::testing::LeafGroupOf<DIM>(prims, center);
     Vec<DIM> x;
     for (int k = 0; k < DIM; ++k)
     {

@@ -216,6 +216,144 @@ Soup<DIM> Transformed(Soup<DIM> soup, double scale, double offset)
 }
 
 //------------------------------------------------------------------------------
+// The leaf filter for rays (BvhLeafFilter.h), set up as the hierarchy sets it
+// up: groups of four primitives (random, degenerate or tiny, at scales from
+// 1e-6 to 1e6, offset from the origin) and rays aimed at a primitive's
+// vertex, edge or interior, or just beside an edge (down to 1e-9 of its
+// size), from near and far. A skipped primitive must be one the exact test
+// misses, and nearly all primitives a ray clearly misses must be skipped.
+template <int DIM>
+void CheckRayLeafFilter(std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> gauss;
+  auto unit = [&]()
+  {
+    Vec<DIM> d;
+    for (int k = 0; k < DIM; ++k)
+    {
+      d[k] = gauss(rng);
+    }
+    return Vec<DIM>(d.normalized());
+  };
+  int clearMisses = 0, clearSkipped = 0, hits = 0;
+  for (int round = 0; round < 40000; ++round)
+  {
+    const double scale = std::pow(10.0, 12.0 * u01(rng) - 6.0);
+    const Vec<DIM> center = (round % 3 == 0) ? Vec<DIM>(scale * 1e4 * unit()) : Vec<DIM>::Zero();
+    Vec<DIM> prims[4][DIM];
+    for (auto& prim : prims)
+    {
+      const Vec<DIM> base = center + scale * unit();
+      const double size = (round % 5 == 0) ? 1e-4 * scale : scale;
+      for (auto& v : prim)
+      {
+        v = base + size * unit();
+      }
+      if (round % 11 == 0)
+      {
+        prim[1] = prim[0]; // degenerate
+      }
+    }
+    double largest = 0.0;
+    for (const auto& prim : prims)
+    {
+      for (const auto& v : prim)
+      {
+        largest = std::max(largest, (v - center).cwiseAbs().maxCoeff());
+      }
+    }
+    const auto group = gridfree::testing::LeafGroupOf<DIM>(prims, center);
+    const double vertexMargin = largest * 0x1p-23 * (1.0 + 0x1p-20); // as Bvh.h
+
+    // The target: a point of lane 0's primitive or just beside one of its
+    // edges, in its plane (3D) or on its line (2D).
+    const Vec<DIM>(&t)[DIM] = prims[0];
+    const int edge = static_cast<int>(rng() % DIM);
+    const Vec<DIM> a = t[edge], b = t[(edge + 1) % DIM];
+    const int kind = round % 4;
+    Vec<DIM> target = kind == 0 ? a : Vec<DIM>(a + u01(rng) * (b - a));
+    if (kind == 1 && DIM == 3)
+    {
+      target += 0.5 * u01(rng) * (t[(edge + 2) % DIM] - target); // interior
+    }
+    double beside = 0.0;
+    if (kind == 3)
+    {
+      // Outward from the edge, within the primitive's plane or line.
+      Vec<DIM> out;
+      if constexpr (DIM == 3)
+      {
+        const Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]);
+        out = (b - a).cross(normal);
+        if (out.dot(t[(edge + 2) % 3] - a) > 0.0)
+        {
+          out = -out;
+        }
+      }
+      else
+      {
+        out = (edge == 0 ? a - b : b - a); // beyond an end of the segment
+        target = edge == 0 ? a : b;
+      }
+      if (out.norm() > 0.0)
+      {
+        beside = (b - a).norm() * std::pow(10.0, -9.0 * u01(rng));
+        target += beside * out.normalized();
+      }
+    }
+    const Vec<DIM> d = unit() * std::pow(10.0, 4.0 * u01(rng) - 2.0);
+    const Vec<DIM> o = target - std::pow(10.0, 8.0 * u01(rng) - 3.0) * scale / d.norm() * d;
+
+    const gridfree::detail::RayFrame<DIM> frame(o, d);
+    int axis[DIM - 1];
+    double shear[DIM - 1];
+    frame.Projection(axis, shear);
+    double y[DIM], err[DIM], originOffset = 0.0;
+    for (int k = 0; k < DIM; ++k)
+    {
+      y[k] = o[k] - center[k];
+      err[k] = std::abs(y[k]) * 0x1p-52;
+      originOffset = std::max(originOffset, std::abs(y[k]));
+    }
+    gridfree::detail::LeafRayProjection<DIM> projection;
+    const float r2 = gridfree::detail::LeafRayFilterSetup<DIM>(
+      y, err, axis, frame.Kz, shear, vertexMargin, originOffset, projection);
+    gridfree::detail::BvhLeafBounds bounds;
+    gridfree::detail::LeafFilterRayBounds<DIM>(group, projection, bounds);
+    const int skip = gridfree::detail::LeafFilterSkipMask(bounds, r2);
+
+    for (int lane = 0; lane < 4; ++lane)
+    {
+      double tHit;
+      Vec<DIM> w;
+      const bool hit = frame.Intersect(prims[lane], -kInf, kInf, tHit, w);
+      hits += hit;
+      ASSERT_FALSE(hit && (skip >> lane & 1))
+        << "lane " << lane << " skipped but hit, round " << round << ", scale " << scale
+        << ", beside " << beside;
+    }
+    // Clearly beside (1e-3 of the edge or more, origin not far): skipped.
+    const bool regular = (round % 11 != 0) && (round % 5 != 0);
+    if (regular && beside > 1e-3 * (b - a).norm() && (o - target).norm() < 1e2 * scale)
+    {
+      ++clearMisses;
+      clearSkipped += skip & 1;
+    }
+  }
+  EXPECT_GT(hits, 5000); // the aimed rays do hit: the check above is not vacuous
+  ASSERT_GT(clearMisses, 1000);
+  EXPECT_GT(clearSkipped, 0.98 * clearMisses) << clearSkipped << " of " << clearMisses;
+}
+
+TEST(BvhRays, LeafFilterSkipsOnlyMisses)
+{
+  CheckRayLeafFilter<3>(81);
+  CheckRayLeafFilter<2>(82);
+}
+
+//------------------------------------------------------------------------------
 // Independent reference for the triangle test: Moller-Trumbore in long double,
 // used only for rays far from the triangle's edges.
 bool ReferenceTriangleHit(const Vec3& o, const Vec3& d, const Vec3 (&v)[3], long double& t,

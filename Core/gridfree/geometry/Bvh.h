@@ -49,6 +49,8 @@
 //   Primitive tests are watertight: the ray/triangle test of Woop, Benthin
 //   and Wald (2013), with exact signs for the edge functions; in 2D, exact
 //   orientation signs of the segment ends (RayKernels.h, ExactPredicates.h).
+//   A leaf's float groups first skip the primitives whose projection along
+//   the ray is proved to miss it (BvhLeafFilter.h); the hits are the same.
 //
 // * The searches are compiled for SSE2, AVX2 and AVX-512 and each hierarchy
 //   runs the best its CPU supports (SimdDispatch.h); all give the same bits.
@@ -456,10 +458,8 @@ private:
   }
   void EncodeBoxes(Node& node, const Range* kids, int count) const;
 
-  /// Brings a child's data towards the cache: a node, or a leaf's
-  /// primitives in double, and for nearest searches (which read them first)
-  /// also their float groups.
-  template <bool Nearest>
+  /// Brings a child's data towards the cache: a node, or a leaf's float
+  /// groups (which every search reads first) and its primitives in double.
   void Prefetch(std::uint32_t ref) const
   {
 #ifdef GRIDFREE_BVH_USE_SSE
@@ -469,7 +469,6 @@ private:
     {
       const std::uint32_t group = (ref & ~kLeafFlag) >> 3;
       const std::uint32_t count = (ref & 7u) + 1;
-      if (Nearest)
       {
         const char* g = reinterpret_cast<const char*>(this->Groups.data() + group);
         const std::size_t gBytes = (count + 3) / 4 * sizeof(detail::BvhLeafGroup<DIM>);
@@ -608,7 +607,6 @@ private:
   /// key, are prefetched (random queries over a large mesh are bound by
   /// memory latency, so the misses should overlap); all but the nearest are
   /// pushed, farthest first. Returns the nearest, or kEmptyChild if none.
-  template <bool Nearest>
   std::uint32_t VisitSorted(
     const Node& node, int mask, const float* keys, Entry* stack, int& top) const
   {
@@ -634,7 +632,7 @@ private:
     }
     for (int j = 0; j < numHits; ++j)
     {
-      this->template Prefetch<Nearest>(hits[j].Ref);
+      this->Prefetch(hits[j].Ref);
     }
     for (int j = numHits - 1; j > 0; --j)
     {
@@ -1670,10 +1668,10 @@ std::int64_t Bvh<DIM>::FindNearestBaseline(
       if ((mask & (mask - 1)) == 0) // a single child: nothing to sort or push
       {
         ref = node.Child[CountTrailingZeros(mask)];
-        this->template Prefetch<true>(ref);
+        this->Prefetch(ref);
         continue;
       }
-      ref = this->template VisitSorted<true>(node, mask, dist2, stack, top);
+      ref = this->VisitSorted(node, mask, dist2, stack, top);
     }
   }
   if (relax)
@@ -1893,6 +1891,23 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
     err[k] = (std::abs(a) + std::abs(b)) * 0x1p-50;
   }
 
+  // The leaf filter's view of the ray (BvhLeafFilter.h): the shifted origin
+  // and the projection of the exact test's frame.
+  detail::LeafRayProjection<DIM> projection;
+  float filterR2;
+  {
+    int axis[DIM - 1];
+    double shear[DIM - 1];
+    frame.Projection(axis, shear);
+    double originOffset = 0.0;
+    for (int k = 0; k < DIM; ++k)
+    {
+      originOffset = std::max(originOffset, std::abs(origin[k] - this->Center[k]));
+    }
+    filterR2 = detail::LeafRayFilterSetup<DIM>(
+      y, err, axis, frame.Kz, shear, this->VertexMargin, originOffset, projection);
+  }
+
   // |t'| of any hit is below tBound: along the dominant axis j the ray moves
   // at least |t'| while it must stay within the boundary box.
   int j = 0;
@@ -1962,22 +1977,38 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
     {
       if (ref & kLeafFlag)
       {
-        const std::uint32_t begin = ((ref & ~kLeafFlag) >> 3) * 4;
-        const std::uint32_t end = begin + (ref & 7u) + 1;
-        const std::int64_t before = best;
-        for (std::uint32_t i = begin; i < end; ++i)
+        // The float groups skip the primitives whose projection they prove
+        // misses the ray; the others get the exact test, in leaf order.
+        const std::uint32_t first = (ref & ~kLeafFlag) >> 3;
+        const std::uint32_t count = (ref & 7u) + 1;
+        const std::uint32_t numGroups = (count + 3) / 4;
+        int keep[(kMaxLeafSize + 3) / 4];
+        for (std::uint32_t j = 0; j < numGroups; ++j)
         {
-          double tHit;
-          Vec<DIM> weights;
-          if (frame.Intersect(this->Primitives[i].V, tMin, t, tHit, weights) &&
-            (best < 0 || tHit < t))
+          detail::BvhLeafBounds bounds;
+          detail::LeafFilterRayBounds<DIM>(this->Groups[first + j], projection, bounds);
+          keep[j] = ((1 << std::min(count - 4 * j, 4u)) - 1) &
+            ~detail::LeafFilterSkipMask(bounds, filterR2);
+        }
+        const std::int64_t before = best;
+        for (std::uint32_t j = 0; j < numGroups; ++j)
+        {
+          const std::uint32_t base = (first + j) << 2;
+          for (int lanes = keep[j]; lanes; lanes &= lanes - 1)
           {
-            t = tHit;
-            w = weights;
-            best = i;
-            if constexpr (AnyHit)
+            const std::uint32_t i = base + static_cast<std::uint32_t>(CountTrailingZeros(lanes));
+            double tHit;
+            Vec<DIM> weights;
+            if (frame.Intersect(this->Primitives[i].V, tMin, t, tHit, weights) &&
+              (best < 0 || tHit < t))
             {
-              return best;
+              t = tHit;
+              w = weights;
+              best = i;
+              if constexpr (AnyHit)
+              {
+                return best;
+              }
             }
           }
         }
@@ -1991,7 +2022,7 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
       const Node& node = this->Nodes[ref];
       float entries[kWidth];
       const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
-      ref = this->template VisitSorted<false>(node, mask, entries, stack, top);
+      ref = this->VisitSorted(node, mask, entries, stack, top);
       if (ref == kEmptyChild)
       {
         break;

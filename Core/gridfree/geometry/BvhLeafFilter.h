@@ -1,7 +1,7 @@
 // Float filter of a hierarchy's leaf primitives for nearest-primitive
-// searches: four primitives at a time, it proves in float which of them are
-// farther from the query than the nearest one found so far, so that only the
-// others get the exact double distance test.
+// searches and rays: four primitives at a time, it proves in float which of
+// them are farther from the query than the nearest one found so far, or
+// which a ray misses, so that only the others get the exact double test.
 //
 // Why: a search visits leaves of several primitives, most of them no nearer
 // than what it already holds; testing each one in double means reading its
@@ -29,11 +29,22 @@
 // that keeps the first strictly nearer primitive gets the same answer, the
 // same primitive and the same ties with or without the filter, on every
 // instruction set.
+//
+// Rays use the same bound in the plane seen along the ray: projected and
+// sheared as the watertight ray test projects them (RayKernels.h), a
+// primitive the ray crosses contains the ray's point, and the exact test,
+// whose signs are exact on its own double projection, rejects every
+// primitive whose projection excludes that point. The filter bounds the
+// distance from the point to the float projection from below and skips a
+// primitive once that bound exceeds how far the float projection can lie
+// from the exact test's (LeafRayFilterSetup): the exact tests that remain
+// and their hits are those of an unfiltered traversal.
 #ifndef GRIDFREE_GEOMETRY_BVH_LEAF_FILTER_H
 #define GRIDFREE_GEOMETRY_BVH_LEAF_FILTER_H
 
 #include <gridfree/geometry/FloatRounding.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -121,23 +132,24 @@ struct LeafFilterScalar
   static F Select(F m, F a, F b) { return Test(m) ? a : b; }
 };
 
-/// The filter's bound (see above) for lanes with d[i] = x - V_i and any
-/// direction n: a float Low with Low / |n| <= the distance from x to the
-/// primitive, or -1 where no positive bound is proved (NaN included).
-template <class L, int DIM>
+/// The filter's bound (see above) for lanes with d[i] = x - V_i (NV
+/// vertices, ND coordinates) and any direction n: a float Low with
+/// Low / |n| <= the distance from x to the primitive (the hull of the V_i,
+/// taken as exact), or -1 where no positive bound is proved (NaN included).
+template <class L, int NV, int ND>
 inline typename L::F LeafFilterLow(
-  const typename L::F (&d)[DIM][DIM], const typename L::F (&n)[DIM], typename L::F nn)
+  const typename L::F (&d)[NV][ND], const typename L::F (&n)[ND], typename L::F nn)
 {
   using F = typename L::F;
   const F zero = L::Set(0.0f);
   // Below 2^-100 the squares may be subnormal and lose relative precision.
   F valid = L::Gt(nn, L::Set(0x1p-100f));
   F low = zero;
-  for (int i = 0; i < DIM; ++i)
+  for (int i = 0; i < NV; ++i)
   {
     F sum = L::Mul(n[0], d[i][0]);
     F mag = L::Abs(sum);
-    for (int k = 1; k < DIM; ++k)
+    for (int k = 1; k < ND; ++k)
     {
       const F p = L::Mul(n[k], d[i][k]);
       sum = L::Add(sum, p);
@@ -151,9 +163,10 @@ inline typename L::F LeafFilterLow(
 }
 
 /// Direction n = x - c for c the float closest point of each lane's
-/// primitive, given d[i] = x - V_i.
-template <class L, int DIM>
-inline void LeafFilterDirection(const typename L::F (&d)[DIM][DIM], typename L::F (&n)[DIM])
+/// primitive (a segment if NV = 2, a triangle if NV = 3, in ND coordinates),
+/// given d[i] = x - V_i.
+template <class L, int NV, int ND>
+inline void LeafFilterDirection(const typename L::F (&d)[NV][ND], typename L::F (&n)[ND])
 {
   using F = typename L::F;
   const F zero = L::Set(0.0f);
@@ -161,31 +174,32 @@ inline void LeafFilterDirection(const typename L::F (&d)[DIM][DIM], typename L::
   auto dot = [](const F* a, const F* b)
   {
     F s = L::Mul(a[0], b[0]);
-    for (int k = 1; k < DIM; ++k)
+    for (int k = 1; k < ND; ++k)
     {
       s = L::Add(s, L::Mul(a[k], b[k]));
     }
     return s;
   };
-  F e1[DIM];
-  for (int k = 0; k < DIM; ++k)
+  F e1[ND];
+  for (int k = 0; k < ND; ++k)
   {
     e1[k] = L::Sub(d[0][k], d[1][k]); // V1 - V0
   }
-  if constexpr (DIM == 2)
+  static_assert(NV == 2 || NV == 3, "segments or triangles");
+  if constexpr (NV == 2)
   {
     // Segment: the projection clamped to [0, 1]; a zero-length segment gives
     // NaN, which Max turns into 0.
     const F s = L::Min(L::Max(L::Div(dot(d[0], e1), dot(e1, e1)), zero), one);
-    for (int k = 0; k < DIM; ++k)
+    for (int k = 0; k < ND; ++k)
     {
       n[k] = L::Sub(d[0][k], L::Mul(e1[k], s));
     }
   }
   else
   {
-    F e2[DIM];
-    for (int k = 0; k < DIM; ++k)
+    F e2[ND];
+    for (int k = 0; k < ND; ++k)
     {
       e2[k] = L::Sub(d[0][k], d[2][k]); // V2 - V0
     }
@@ -221,7 +235,7 @@ inline void LeafFilterDirection(const typename L::F (&d)[DIM][DIM], typename L::
     const F atA = L::And(L::Le(d1, zero), L::Le(d2, zero));
     s = L::Select(atA, zero, s);
     t = L::Select(atA, zero, t);
-    for (int k = 0; k < DIM; ++k)
+    for (int k = 0; k < ND; ++k)
     {
       n[k] = L::Sub(L::Sub(d[0][k], L::Mul(e1[k], s)), L::Mul(e2[k], t));
     }
@@ -238,54 +252,153 @@ struct alignas(16) BvhLeafBounds
   float Norm2[4];
 };
 
+/// Low and |n|^2 of lanes with d[i] = x - V_i, n from LeafFilterDirection.
+template <class L, int NV, int ND>
+inline void LeafFilterLaneBounds(
+  const typename L::F (&d)[NV][ND], typename L::F& low, typename L::F& nn)
+{
+  typename L::F n[ND];
+  LeafFilterDirection<L, NV, ND>(d, n);
+  nn = L::Mul(n[0], n[0]);
+  for (int k = 1; k < ND; ++k)
+  {
+    nn = L::Add(nn, L::Mul(n[k], n[k]));
+  }
+  low = LeafFilterLow<L, NV, ND>(d, n, nn);
+}
+
+/// Runs the filter on the four lanes of a group: fill(L, load, d) writes
+/// d[i] = x - V_i of the lanes, with load(lanes) giving a group row (4
+/// floats) as lane values.
+template <int NV, int ND, class Fill>
+inline void LeafFilterBoundsOf(const Fill& fill, BvhLeafBounds& out)
+{
+#ifdef GRIDFREE_LEAF_FILTER_USE_SSE
+  using L = LeafFilterSse;
+  __m128 d[NV][ND];
+  fill(L{}, [](const float* lanes) { return _mm_load_ps(lanes); }, d);
+  __m128 low, nn;
+  LeafFilterLaneBounds<L, NV, ND>(d, low, nn);
+  _mm_store_ps(out.Norm2, nn);
+  _mm_store_ps(out.Low, low);
+#else
+  using L = LeafFilterScalar;
+  for (int lane = 0; lane < 4; ++lane)
+  {
+    float d[NV][ND];
+    fill(L{}, [lane](const float* lanes) { return lanes[lane]; }, d);
+    LeafFilterLaneBounds<L, NV, ND>(d, out.Low[lane], out.Norm2[lane]);
+  }
+#endif
+}
+
 /// The filter's bounds of the four primitives of a group from the float
 /// query q (relative to the hierarchy's centre).
 template <int DIM>
 inline void LeafFilterBounds(
   const BvhLeafGroup<DIM>& g, const float (&q)[DIM], BvhLeafBounds& out)
 {
-#ifdef GRIDFREE_LEAF_FILTER_USE_SSE
-  using L = LeafFilterSse;
-  __m128 d[DIM][DIM];
-  for (int i = 0; i < DIM; ++i)
-  {
-    for (int k = 0; k < DIM; ++k)
+  LeafFilterBoundsOf<DIM, DIM>(
+    [&](auto lanes, const auto& load, auto& d)
     {
-      d[i][k] = _mm_sub_ps(_mm_set1_ps(q[k]), _mm_load_ps(g.V[i][k]));
-    }
-  }
-  __m128 n[DIM];
-  LeafFilterDirection<L, DIM>(d, n);
-  __m128 nn = _mm_mul_ps(n[0], n[0]);
-  for (int k = 1; k < DIM; ++k)
-  {
-    nn = _mm_add_ps(nn, _mm_mul_ps(n[k], n[k]));
-  }
-  _mm_store_ps(out.Norm2, nn);
-  _mm_store_ps(out.Low, LeafFilterLow<L, DIM>(d, n, nn));
-#else
-  using L = LeafFilterScalar;
-  for (int lane = 0; lane < 4; ++lane)
-  {
-    float d[DIM][DIM];
-    for (int i = 0; i < DIM; ++i)
-    {
-      for (int k = 0; k < DIM; ++k)
+      using L = decltype(lanes);
+      for (int i = 0; i < DIM; ++i)
       {
-        d[i][k] = q[k] - g.V[i][k][lane];
+        for (int k = 0; k < DIM; ++k)
+        {
+          d[i][k] = L::Sub(L::Set(q[k]), load(g.V[i][k]));
+        }
       }
-    }
-    float n[DIM];
-    LeafFilterDirection<L, DIM>(d, n);
-    float nn = n[0] * n[0];
-    for (int k = 1; k < DIM; ++k)
-    {
-      nn += n[k] * n[k];
-    }
-    out.Norm2[lane] = nn;
-    out.Low[lane] = LeafFilterLow<L, DIM>(d, n, nn);
+    },
+    out);
+}
+
+/// A ray seen along its direction: the primitives projected onto the DIM - 1
+/// axes other than the dominant one, sheared so that the ray becomes the
+/// origin, as the watertight ray tests do (RayKernels.h). The exact test
+/// rejects every primitive whose projection (from its own double
+/// arithmetic) does not contain the origin, so the filter's bound of the
+/// distance from the origin to the float projection proves a miss once it
+/// exceeds the bound of the two projections' difference (LeafFilterRayBounds).
+template <int DIM>
+struct LeafRayProjection
+{
+  float Origin[DIM]; // a point of the ray, relative to the centre, in float
+  int Axis[DIM - 1]; // the projection's axes
+  int Dominant;      // the axis along which the ray is followed
+  float Shear[DIM - 1]; // direction[Axis[j]] / direction[Dominant], in float
+};
+
+/// Sets up the filter for a ray: y is a point of it relative to the
+/// hierarchy's centre, within err[k] of an exact point of the ray per axis;
+/// the exact test projects along axis `dominant` onto `axis`, with shear[j]
+/// = direction[axis[j]] / direction[dominant] rounded to double (so
+/// |shear| <= 1); the float vertices are within vertexMargin of the exact
+/// ones per axis, and every vertex within 2^23 vertexMargin of the centre;
+/// every coordinate of the ray origin the exact test uses is within
+/// originOffset of the centre. Returns the threshold for LeafFilterSkipMask:
+/// the square of a bound of how far, per projected point, the float
+/// projection can lie from the exact test's, in the real numbers:
+/// * float side: the displacements of the float origin (err, rounding to
+///   float) and of the vertices, each counted twice (once through the
+///   shear), and 2^-20 of the largest float coordinate for the rounding of
+///   the subtraction, of the shear and of its two operations (7 roundings
+///   of 2^-24 at most);
+/// * double side: 2^-49 of the largest |vertex - origin| coordinate for the
+///   exact test's own subtraction, shear and their roundings (6 of 2^-53);
+/// times sqrt(2) for the two axes of a triangle's projection. The exact test
+/// decides by exact signs on its projection, so it rejects every primitive
+/// whose projection excludes the ray's point; the filter proves that when
+/// its float projection is farther than this bound from the ray.
+template <int DIM>
+inline float LeafRayFilterSetup(const double (&y)[DIM], const double (&err)[DIM],
+  const int (&axis)[DIM - 1], int dominant, const double (&shear)[DIM - 1], double vertexMargin,
+  double originOffset, LeafRayProjection<DIM>& out)
+{
+  double yMax = 0.0, originError = 0.0;
+  for (int k = 0; k < DIM; ++k)
+  {
+    out.Origin[k] = static_cast<float>(y[k]);
+    yMax = std::max(yMax, std::abs(y[k]));
+    originError = std::max(originError, err[k] + std::abs(y[k]) * 0x1p-24 + 0x1p-140);
   }
-#endif
+  out.Dominant = dominant;
+  for (int j = 0; j < DIM - 1; ++j)
+  {
+    out.Axis[j] = axis[j];
+    out.Shear[j] = static_cast<float>(shear[j]);
+  }
+  const double largest = vertexMargin * 0x1p23;
+  const double floatSide = 2.0 * (originError + vertexMargin) + (yMax + largest) * 0x1p-20;
+  const double doubleSide = (largest + originOffset) * 0x1p-49;
+  const double margin = (DIM == 3 ? 1.5 : 1.0) * (floatSide + doubleSide) * (1.0 + 0x1p-40);
+  // Far beyond float range the float origin is inf or NaN: skip nothing.
+  return yMax < 0x1p100 ? LeafFilterRadius2(0.0, margin) : std::numeric_limits<float>::infinity();
+}
+
+/// The filter's bounds for a ray: Low / |n| bounds below the distance from
+/// the ray to each lane's primitive in the float projection, whose vertices
+/// are (Origin - V_i)[Axis[j]] - Shear[j] (Origin - V_i)[Dominant].
+template <int DIM>
+inline void LeafFilterRayBounds(
+  const BvhLeafGroup<DIM>& g, const LeafRayProjection<DIM>& ray, BvhLeafBounds& out)
+{
+  LeafFilterBoundsOf<DIM, DIM - 1>(
+    [&](auto lanes, const auto& load, auto& d)
+    {
+      using L = decltype(lanes);
+      for (int i = 0; i < DIM; ++i)
+      {
+        const auto along = L::Sub(L::Set(ray.Origin[ray.Dominant]), load(g.V[i][ray.Dominant]));
+        for (int j = 0; j < DIM - 1; ++j)
+        {
+          const int k = ray.Axis[j];
+          d[i][j] = L::Sub(
+            L::Sub(L::Set(ray.Origin[k]), load(g.V[i][k])), L::Mul(L::Set(ray.Shear[j]), along));
+        }
+      }
+    },
+    out);
 }
 
 /// The lanes (bits 0..3) whose primitive the bounds prove farther than

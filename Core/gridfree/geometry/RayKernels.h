@@ -56,6 +56,16 @@ struct RayFrame<3>
     this->Sz = 1.0 / direction[this->Kz];
   }
 
+  /// The projection of the test: the axes of the projected plane and the
+  /// shear along the dominant axis (each of magnitude at most 1).
+  void Projection(int (&axis)[2], double (&shear)[2]) const
+  {
+    axis[0] = this->Kx;
+    axis[1] = this->Ky;
+    shear[0] = this->Sx;
+    shear[1] = this->Sy;
+  }
+
   /// Hit of the triangle with t in [tMin, tMax]: t and the weights of v[0..2].
   /// Rays parallel to the triangle's plane (including rays in that plane)
   /// and zero-area triangles never hit.
@@ -120,6 +130,15 @@ struct RayFrame<2>
   {
     this->Kz = std::abs(direction[1]) > std::abs(direction[0]) ? 1 : 0;
     this->Sz = 1.0 / direction[this->Kz];
+  }
+
+  /// The projection of the test: the side of the line of the segment ends,
+  /// cross(d, p - o), is the sign of p[axis] - shear p[Kz] - o's, up to
+  /// a sign fixed per ray (|shear| <= 1).
+  void Projection(int (&axis)[1], double (&shear)[1]) const
+  {
+    axis[0] = 1 - this->Kz;
+    shear[0] = this->Direction[1 - this->Kz] / this->Direction[this->Kz];
   }
 
   /// Hit of the segment with t in [tMin, tMax]: t and the weights of v[0..1].
