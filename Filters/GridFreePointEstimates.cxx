@@ -228,6 +228,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   // Control variates need the gradient, which walk on stars does not
   // estimate yet.
   request.ControlVariates = s.ControlVariates && !mixed;
+  request.AntitheticPairs = s.AntitheticPairs;
   request.Directional = s.ComputeDirectionalDerivative;
   request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
     s.DerivativeDirection[2] };

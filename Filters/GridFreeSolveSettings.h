@@ -58,6 +58,7 @@ struct SolveSettings
   bool ComputeGradient = false;
   bool ComputeHessian = false;
   bool ControlVariates = true;
+  bool AntitheticPairs = false;
   bool ComputeDirectionalDerivative = false;
   std::array<double, 3> DerivativeDirection = { 1.0, 0.0, 0.0 };
 };

@@ -164,6 +164,7 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
     settings.SourceOperator = operation;
     settings.ComputeGradient = true;
     settings.ControlVariates = this->ControlVariates;
+    settings.AntitheticPairs = this->AntitheticPairs;
     gridfree::ArraySelections arrays;
     arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, potential);
     if (fieldArray)
@@ -327,4 +328,5 @@ void vtkWalkOnSpheresHelmholtzDecomposition::PrintSelf(ostream& os, vtkIndent in
      << "\n";
   os << indent << "FieldName: " << (this->FieldName ? this->FieldName : "(none)") << "\n";
   os << indent << "ControlVariates: " << this->ControlVariates << "\n";
+  os << indent << "AntitheticPairs: " << this->AntitheticPairs << "\n";
 }

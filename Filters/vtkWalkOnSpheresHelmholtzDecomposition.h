@@ -97,6 +97,16 @@ public:
   vtkBooleanMacro(ControlVariates, bool);
   ///@}
 
+  ///@{
+  /**
+   * Antithetic pairs of walks for the gradients (default off; see
+   * vtkWalkOnSpheresSolver).
+   */
+  vtkSetMacro(AntitheticPairs, bool);
+  vtkGetMacro(AntitheticPairs, bool);
+  vtkBooleanMacro(AntitheticPairs, bool);
+  ///@}
+
 protected:
   vtkWalkOnSpheresHelmholtzDecomposition();
   ~vtkWalkOnSpheresHelmholtzDecomposition() override;
@@ -108,6 +118,7 @@ protected:
   char* FieldExpression = nullptr;
   char* FieldName = nullptr;
   bool ControlVariates = true;
+  bool AntitheticPairs = false;
 
 private:
   vtkWalkOnSpheresHelmholtzDecomposition(const vtkWalkOnSpheresHelmholtzDecomposition&) = delete;

@@ -353,6 +353,7 @@ gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
   s.ComputeGradient = this->ComputeGradient;
   s.ComputeHessian = this->ComputeHessian;
   s.ControlVariates = this->ControlVariates;
+  s.AntitheticPairs = this->AntitheticPairs;
   s.ComputeDirectionalDerivative = this->ComputeDirectionalDerivative;
   s.DerivativeDirection = { this->DerivativeDirection[0], this->DerivativeDirection[1],
     this->DerivativeDirection[2] };
@@ -563,6 +564,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ComputeGradient: " << (this->ComputeGradient ? "On" : "Off") << "\n";
   os << indent << "ComputeHessian: " << (this->ComputeHessian ? "On" : "Off") << "\n";
   os << indent << "ControlVariates: " << (this->ControlVariates ? "On" : "Off") << "\n";
+  os << indent << "AntitheticPairs: " << (this->AntitheticPairs ? "On" : "Off") << "\n";
   os << indent << "ComputeDirectionalDerivative: "
      << (this->ComputeDirectionalDerivative ? "On" : "Off") << "\n";
   os << indent << "DerivativeDirection: " << this->DerivativeDirection[0] << " "

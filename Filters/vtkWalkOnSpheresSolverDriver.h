@@ -110,7 +110,8 @@ public:
    * The sampling settings (those of vtkWalkOnSpheresSolver): walks per
    * point (at least 2), Epsilon (relative to the boundary's diagonal unless
    * EpsilonIsRelative is off), MaxSteps, Seed, NumberOfThreads (0: all),
-   * ControlVariates for the gradient (default on).
+   * ControlVariates for the gradient (default on), AntitheticPairs (default
+   * off; see vtkWalkOnSpheresSolver).
    */
   void SetWalksPerPoint(int walks);
   int GetWalksPerPoint();
@@ -126,6 +127,8 @@ public:
   int GetNumberOfThreads();
   void SetControlVariates(bool on);
   bool GetControlVariates();
+  void SetAntitheticPairs(bool on);
+  bool GetAntitheticPairs();
   ///@}
 
   /**

@@ -565,9 +565,11 @@ void PrintWalkRow(const std::string& mesh, const WalkRow& r, const WalkRow* refe
     Number(r.StepsPerWalk, "%.1f"), Number(r.Rmse, "%.2e"), relative });
 }
 
-// Our walks on one thread from every point, with or without the gradient.
+// Our walks on one thread from every point, with or without the gradient;
+// with antithetic pairs, walks / 2 samples of two walks each.
 WalkRow OurWalks(const std::string& name, const Boundary<3>& boundary, double setup,
-  const std::vector<Vec3>& points, int walks, double epsilon, bool gradient, const Harmonic& u)
+  const std::vector<Vec3>& points, int walks, double epsilon, bool gradient, const Harmonic& u,
+  bool antithetic = false)
 {
   WalkSettings settings;
   settings.Epsilon = epsilon;
@@ -575,6 +577,9 @@ WalkRow OurWalks(const std::string& name, const Boundary<3>& boundary, double se
   DerivativeRequest request;
   request.Gradient = true;
   request.ControlVariates = true;
+  request.AntitheticPairs = antithetic;
+  const int walksPerSample = antithetic ? 2 : 1;
+  const int samples = std::max(1, walks / walksPerSample);
   WalkOnSpheresEstimator<3> values(boundary, settings);
   DerivativeWalkOnSpheres<3> derivatives(boundary, settings, request);
   const SampleLayout& layout = derivatives.Layout();
@@ -588,7 +593,7 @@ WalkRow OurWalks(const std::string& name, const Boundary<3>& boundary, double se
     if (gradient)
     {
       RunningStatistics stats(layout.Size);
-      derivatives.EstimatePoint(xyz, 7, 0, walks, stats, counters);
+      derivatives.EstimatePoint(xyz, 7, 0, samples, stats, counters);
       const Vec3 g(stats.GetMean(layout.Gradient), stats.GetMean(layout.Gradient + 1),
         stats.GetMean(layout.Gradient + 2));
       squared += (g - u.Gradient(p)).squaredNorm();
@@ -606,8 +611,8 @@ WalkRow OurWalks(const std::string& name, const Boundary<3>& boundary, double se
   row.Name = name;
   row.Seconds = Seconds(start);
   row.Setup = setup;
-  row.WalksPerSecond = double(total.Walks) / row.Seconds;
-  row.StepsPerWalk = total.MeanSteps();
+  row.WalksPerSecond = double(walksPerSample) * double(total.Walks) / row.Seconds;
+  row.StepsPerWalk = total.MeanSteps() / walksPerSample;
   row.Rmse = std::sqrt(squared / double(points.size()));
   return row;
 }
@@ -705,6 +710,9 @@ void WalksPart(const std::vector<Mesh>& meshes, const Options& o)
     const WalkRow gradient = OurWalks("gradient: ours (control variates)", boundary, setup,
       points, o.Walks, epsilon, true, u);
     PrintWalkRow(mesh.Name, gradient, havePeer ? &peerGradient : nullptr);
+    const WalkRow antithetic = OurWalks("gradient: ours (control variates, antithetic pairs)",
+      boundary, setup, points, o.Walks, epsilon, true, u, true);
+    PrintWalkRow(mesh.Name, antithetic, havePeer ? &peerGradient : nullptr);
     if (havePeer)
     {
       PrintWalkRow(mesh.Name, peerGradient, nullptr);

@@ -168,30 +168,33 @@ void ExpectAllCalibrated(const std::vector<Calibration>& calibrations, const cha
 }
 
 template <int DIM>
-void CheckLaplace(bool controls)
+void CheckLaplace(bool controls, bool pairs = false)
 {
   const Solution<DIM> s = Harmonic<DIM>();
   const Boundary<DIM> boundary = MakeBoundary<DIM>(UnitSphereMesh<DIM>(), { s.U });
   DerivativeRequest request;
   request.Gradient = request.Hessian = true;
   request.ControlVariates = controls;
+  request.AntitheticPairs = pairs;
   const auto points = RandomPointsInBall<DIM>(Points, 0.85, 40 + DIM);
   const auto run =
     RunDerivativeEstimator<DIM>(boundary, Settings<DIM>(Equation::Laplace), request, points, 256, 7);
   const SampleLayout layout =
     DerivativeWalkOnSpheres<DIM>(boundary, Settings<DIM>(Equation::Laplace), request).Layout();
   ExpectAllCalibrated(Calibrate<DIM>(run, points, ChecksFor<DIM>(layout, s, true)),
-    controls ? "Laplace with control variates" : "Laplace without control variates");
+    pairs ? "Laplace with antithetic pairs"
+          : (controls ? "Laplace with control variates" : "Laplace without control variates"));
 }
 
 template <int DIM>
-void CheckWithSource(Equation equation, double c)
+void CheckWithSource(Equation equation, double c, bool pairs = false)
 {
   const Solution<DIM> s = Smooth<DIM>();
   const Boundary<DIM> boundary = MakeBoundary<DIM>(UnitSphereMesh<DIM>(), { s.U });
   FunctionSource<DIM> f([s, c](const Vec<DIM>& x) { return s.Hessian(x).trace() - c * s.U(x); });
   DerivativeRequest request;
   request.Gradient = request.Hessian = true;
+  request.AntitheticPairs = pairs;
   const auto points = RandomPointsInBall<DIM>(Points, 0.85, 50 + DIM);
   const WalkSettings settings = Settings<DIM>(equation, c);
   const auto run = RunDerivativeEstimator<DIM>(boundary, settings, request, points, 256, 11, &f);
@@ -301,6 +304,12 @@ TEST(DerivativeWalkOnSpheres, Laplace2D) { CheckLaplace<2>(true); }
 TEST(DerivativeWalkOnSpheres, Laplace3D) { CheckLaplace<3>(true); }
 TEST(DerivativeWalkOnSpheres, LaplaceWithoutControlVariates2D) { CheckLaplace<2>(false); }
 TEST(DerivativeWalkOnSpheres, LaplaceWithoutControlVariates3D) { CheckLaplace<3>(false); }
+TEST(DerivativeWalkOnSpheres, LaplaceWithAntitheticPairs2D) { CheckLaplace<2>(true, true); }
+TEST(DerivativeWalkOnSpheres, LaplaceWithAntitheticPairs3D) { CheckLaplace<3>(true, true); }
+TEST(DerivativeWalkOnSpheres, ScreenedPoissonWithAntitheticPairs3D)
+{
+  CheckWithSource<3>(Equation::ScreenedPoisson, 4.0, true);
+}
 TEST(DerivativeWalkOnSpheres, Poisson2D) { CheckWithSource<2>(Equation::Poisson, 0.0); }
 TEST(DerivativeWalkOnSpheres, Poisson3D) { CheckWithSource<3>(Equation::Poisson, 0.0); }
 TEST(DerivativeWalkOnSpheres, ScreenedPoisson2D) { CheckWithSource<2>(Equation::ScreenedPoisson, 4.0); }
@@ -347,6 +356,42 @@ TEST(DerivativeWalkOnSpheres, ControlVariatesReduceVariance)
   EXPECT_GT(variance[0][0] / variance[1][0], 1.1) << "value";
   EXPECT_GT(variance[0][1] / variance[1][1], 9.0) << "gradient";
   EXPECT_GT(variance[0][2] / variance[1][2], 16.0) << "Hessian";
+}
+
+// A pair of walks whose second replays the first one's random numbers from
+// the opposite point of the first sphere: at equal walk count its gradient
+// has less variance than two walks with control variates (the even part of
+// u on the sphere cancels), and its value no more.
+TEST(DerivativeWalkOnSpheres, AntitheticPairsReduceGradientVariance)
+{
+  const Solution<3> s = Harmonic<3>();
+  const Boundary<3> boundary = MakeBoundary<3>(UnitSphereMesh<3>(), { s.U });
+  const auto points = RandomPointsInBall<3>(100, 0.85, 81);
+  DerivativeRequest request;
+  request.Gradient = true;
+  double variance[2][2] = { { 0, 0 }, { 0, 0 } };
+  for (int pairs = 0; pairs < 2; ++pairs)
+  {
+    request.AntitheticPairs = pairs == 1;
+    const SampleLayout layout =
+      DerivativeWalkOnSpheres<3>(boundary, Settings<3>(Equation::Laplace), request).Layout();
+    // The same 512 walks per point: 512 samples, or 256 pairs.
+    const auto run = RunDerivativeEstimator<3>(
+      boundary, Settings<3>(Equation::Laplace), request, points, pairs ? 256 : 512, 5);
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      variance[pairs][0] += run.Variance[i * run.Size + layout.Value];
+      for (int k = 0; k < 3; ++k)
+      {
+        variance[pairs][1] += run.Variance[i * run.Size + layout.Gradient + k];
+      }
+    }
+  }
+  std::cout << "variance of the mean, two walks with control variates over one pair: value "
+            << variance[0][0] / variance[1][0] << ", gradient " << variance[0][1] / variance[1][1]
+            << "\n";
+  EXPECT_GT(variance[0][1] / variance[1][1], 1.2) << "gradient";
+  EXPECT_GT(variance[0][0] / variance[1][0], 0.8) << "value";
 }
 
 // Z·∇u, ∇·u and ∇×u of a 3-component solution, each with its own variance.

@@ -31,6 +31,10 @@
 //   the exact mean of the constant part (zero for c = 0; Sec. 4.1.3);
 // - sources: antithetic pairs in ∫ f ∇G and a running mean f̄ in the f·M term
 //   (SourceDerivatives.h).
+// With DerivativeRequest::AntitheticPairs a sample averages the walks from
+// x0 + R0 ν and x0 − R0 ν (common random numbers after the first step): in
+// the gradient the controls' constant and the even part of u on ∂B0 cancel
+// exactly, in the value the linear part; the mean is unchanged.
 //
 // Points closer to the boundary than ε have no usable first ball: their
 // value is g at the closest point (as in the plain walk) and their
@@ -65,6 +69,12 @@ struct DerivativeRequest
   bool Gradient = false;
   bool Hessian = false;
   bool ControlVariates = true;
+  // Each sample averages an antithetic pair of walks, the first steps to
+  // x0 + R0 ν and x0 − R0 ν, the second walk replaying the first one's
+  // random numbers: the gradient's sample is then κ ν (û⁺ − û⁻)/2, in which
+  // the constant and every even part of u on the first sphere cancel. Each
+  // sample costs two walks (its counters count one walk, both walks' steps).
+  bool AntitheticPairs = false;
   // Z·∇u along Direction (its first DIM components).
   bool Directional = false;
   std::array<double, 3> Direction = { 1.0, 0.0, 0.0 };
@@ -170,6 +180,7 @@ public:
     l.Size = next;
     const int components = boundary.Components();
     this->Sample.resize(l.Size);
+    this->PairSample.resize(l.Size);
     this->Tail.resize(components);
     this->ValueSource.resize(components);
     this->GradientSource.resize(components * DIM);
@@ -391,99 +402,119 @@ private:
             hessian ? this->HessianSource.data() : nullptr, this->SourceSample.data());
         }
 
-        const Vec<DIM> nu = SampleUnitSphere<DIM>(rng);
-        int steps = 0;
-        const WalkEnd tailEnd = this->Walker.Walk(
-          centre + radius * nu, escapeRadius, rng, this->Tail.data(), steps, counters.Returns);
-        totalSteps += steps + 1;
-        if (status == DerivativeStatus::Interior)
+        const Vec<DIM> firstNu = SampleUnitSphere<DIM>(rng);
+        const RandomStream replay = rng; // the pair's second walk replays the first's numbers
+        const int sides = this->Request.AntitheticPairs ? 2 : 1;
+        for (int side = 0; side < sides; ++side)
         {
-          end = tailEnd;
-          if (l.Weight >= 0)
+          if (side == 1)
           {
-            // The value is C·(tail − …): the first ball's weight times the tail walk's.
-            this->Sample[l.Weight] = weightC * this->Walker.LastWeight();
+            this->PairSample = this->Sample;
+            rng = replay;
           }
-        }
-        const Mat<DIM> nuNu = nu * nu.transpose();
-        const Mat<DIM> identity = Mat<DIM>::Identity();
-
-        for (int c = 0; c < nc; ++c)
-        {
-          const double tail = this->Tail[c];
-          const double h = biharmonic ? this->Tail[nc + c] : 0.0;
-          double mBar = controls ? this->Pilot[c] : 0.0;
-          Vec<DIM> bBar = Vec<DIM>::Zero();
-          if (useControls)
-          {
-            mBar = history.GetMean(l.TailMean + c);
-            for (int i = 0; i < DIM; ++i)
-            {
-              bBar[i] = linearScale * history.GetMean(l.Gradient + c * DIM + i);
-            }
-          }
-          const double linear = bBar.dot(nu);
-
+          const Vec<DIM> nu = side == 0 ? firstNu : Vec<DIM>(-firstNu);
+          int steps = 0;
+          const WalkEnd tailEnd = this->Walker.Walk(
+            centre + radius * nu, escapeRadius, rng, this->Tail.data(), steps, counters.Returns);
+          totalSteps += steps + 1;
           if (status == DerivativeStatus::Interior)
           {
-            double value = weightC * (tail - linear) - this->ValueSource[c];
-            if (biharmonic)
+            // A pair reports how its second walk ended if that one escaped
+            // or was cut off.
+            end = side == 0 || tailEnd != WalkEnd::Boundary ? tailEnd : end;
+            if (l.Weight >= 0)
             {
-              value -= radius * radius / (2.0 * n) * h;
-              this->Sample[l.Laplacian + c] = h;
+              // The value is C·(tail − …): the first ball's weight times the tail walk's.
+              this->Sample[l.Weight] = weightC * this->Walker.LastWeight();
             }
-            this->Sample[l.Value + c] = value;
           }
+          const Mat<DIM> nuNu = nu * nu.transpose();
+          const Mat<DIM> identity = Mat<DIM>::Identity();
 
-          Vec<DIM> gradient = kappa * (tail - mBar) * nu;
-          for (int i = 0; i < DIM; ++i)
+          for (int c = 0; c < nc; ++c)
           {
-            gradient[i] -= this->GradientSource[c * DIM + i];
-          }
-          if (biharmonic)
-          {
-            gradient -= (n * radius / (2.0 * (n + 2.0))) * h * nu;
-          }
-          for (int i = 0; i < DIM; ++i)
-          {
-            this->Sample[l.Gradient + c * DIM + i] = gradient[i];
-          }
-
-          if (hessian)
-          {
-            Mat<DIM> hess = (tail - mBar - linear) * (alpha * nuNu + beta * identity) +
-              mBar * kernelMean * identity;
-            if (biharmonic)
+            const double tail = this->Tail[c];
+            const double h = biharmonic ? this->Tail[nc + c] : 0.0;
+            double mBar = controls ? this->Pilot[c] : 0.0;
+            Vec<DIM> bBar = Vec<DIM>::Zero();
+            if (useControls)
             {
-              hess += h * identity / n - h * (n + 2.0) * (n * nuNu - identity) / (2.0 * (n + 4.0));
-            }
-            for (int i = 0; i < DIM; ++i)
-            {
-              for (int j = 0; j < DIM; ++j)
+              mBar = history.GetMean(l.TailMean + c);
+              for (int i = 0; i < DIM; ++i)
               {
-                this->Sample[l.Hessian + (c * DIM + i) * DIM + j] =
-                  hess(i, j) - this->HessianSource[(c * DIM + i) * DIM + j];
+                bBar[i] = linearScale * history.GetMean(l.Gradient + c * DIM + i);
               }
             }
-          }
-          if (l.Directional >= 0)
-          {
-            double dz = 0.0;
+            const double linear = bBar.dot(nu);
+
+            if (status == DerivativeStatus::Interior)
+            {
+              double value = weightC * (tail - linear) - this->ValueSource[c];
+              if (biharmonic)
+              {
+                value -= radius * radius / (2.0 * n) * h;
+                this->Sample[l.Laplacian + c] = h;
+              }
+              this->Sample[l.Value + c] = value;
+            }
+
+            Vec<DIM> gradient = kappa * (tail - mBar) * nu;
             for (int i = 0; i < DIM; ++i)
             {
-              dz += direction[i] * this->Sample[l.Gradient + c * DIM + i];
+              gradient[i] -= this->GradientSource[c * DIM + i];
             }
-            this->Sample[l.Directional + c] = dz;
+            if (biharmonic)
+            {
+              gradient -= (n * radius / (2.0 * (n + 2.0))) * h * nu;
+            }
+            for (int i = 0; i < DIM; ++i)
+            {
+              this->Sample[l.Gradient + c * DIM + i] = gradient[i];
+            }
+
+            if (hessian)
+            {
+              Mat<DIM> hess = (tail - mBar - linear) * (alpha * nuNu + beta * identity) +
+                mBar * kernelMean * identity;
+              if (biharmonic)
+              {
+                hess += h * identity / n - h * (n + 2.0) * (n * nuNu - identity) / (2.0 * (n + 4.0));
+              }
+              for (int i = 0; i < DIM; ++i)
+              {
+                for (int j = 0; j < DIM; ++j)
+                {
+                  this->Sample[l.Hessian + (c * DIM + i) * DIM + j] =
+                    hess(i, j) - this->HessianSource[(c * DIM + i) * DIM + j];
+                }
+              }
+            }
+            if (l.Directional >= 0)
+            {
+              double dz = 0.0;
+              for (int i = 0; i < DIM; ++i)
+              {
+                dz += direction[i] * this->Sample[l.Gradient + c * DIM + i];
+              }
+              this->Sample[l.Directional + c] = dz;
+            }
+            this->Sample[l.TailMean + c] = tail;
+            if (l.SourceMean >= 0)
+            {
+              this->Sample[l.SourceMean + c] = this->SourceSample[c];
+            }
           }
-          this->Sample[l.TailMean + c] = tail;
-          if (l.SourceMean >= 0)
+          if (l.Divergence >= 0)
           {
-            this->Sample[l.SourceMean + c] = this->SourceSample[c];
+            this->AddDivergenceCurl();
           }
         }
-        if (l.Divergence >= 0)
+        if (sides == 2)
         {
-          this->AddDivergenceCurl();
+          for (int i = 0; i < l.Size; ++i)
+          {
+            this->Sample[i] = 0.5 * (this->PairSample[i] + this->Sample[i]);
+          }
         }
       }
 
@@ -520,6 +551,7 @@ private:
   SampleLayout Slots;
   // Per-thread scratch, sized once.
   std::vector<double> Sample;
+  std::vector<double> PairSample; // the first walk's sample of a pair
   std::vector<double> Tail;
   std::vector<double> ValueSource;
   std::vector<double> GradientSource;
