@@ -479,13 +479,20 @@ TEST(DerivativeWalkOnSpheres, PointsOnAndNearTheBoundaryAreOneSided)
 // recorders and replayed in walk order, or spread over a different number of
 // threads, give bit-identical means: control variates only look at earlier
 // walks of the same block (kControlBlock walks) of the same point.
-TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
+// With antithetic pairs too: a pair's second walk replays the numbers of
+// the sample's own stream, whatever thread or call runs it.
+class DerivativeWalkOnSpheresPairs : public ::testing::TestWithParam<bool>
+{
+};
+
+TEST_P(DerivativeWalkOnSpheresPairs, ReproducibleAcrossSplitsAndThreads)
 {
   const Solution<2> s = Smooth<2>();
   const Boundary<2> boundary = MakeBoundary<2>(UnitSphereMesh<2>(), { s.U });
   FunctionSource<2> f([s](const Vec2& x) { return s.Hessian(x).trace(); });
   DerivativeRequest request;
   request.Gradient = request.Hessian = true;
+  request.AntitheticPairs = GetParam();
   const WalkSettings settings = Settings<2>(Equation::Poisson);
   const auto points = RandomPointsInBall<2>(40, 0.8, 99);
   constexpr int block = DerivativeWalkOnSpheres<2>::kControlBlock;
@@ -529,6 +536,10 @@ TEST(DerivativeWalkOnSpheres, ReproducibleAcrossSplitsAndThreads)
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(DerivativeWalkOnSpheres, DerivativeWalkOnSpheresPairs,
+  ::testing::Values(false, true),
+  [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "AntitheticPairs" : "SingleWalks"; });
 
 // Exterior problem (Sec. 2.6): u = 1/|x − p| outside the unit sphere (p inside),
 // u → 0 at infinity. The first ball may be huge; the rest of the walk returns

@@ -469,15 +469,13 @@ private:
     {
       const std::uint32_t group = (ref & ~kLeafFlag) >> 3;
       const std::uint32_t count = (ref & 7u) + 1;
+      const char* g = reinterpret_cast<const char*>(this->Groups.data() + group);
+      const std::size_t gBytes = (count + 3) / 4 * sizeof(detail::BvhLeafGroup<DIM>);
+      for (std::size_t off = 0; off < gBytes; off += 64)
       {
-        const char* g = reinterpret_cast<const char*>(this->Groups.data() + group);
-        const std::size_t gBytes = (count + 3) / 4 * sizeof(detail::BvhLeafGroup<DIM>);
-        for (std::size_t off = 0; off < gBytes; off += 64)
-        {
-          _mm_prefetch(g + off, _MM_HINT_T0);
-        }
-        _mm_prefetch(g + gBytes - 1, _MM_HINT_T0);
+        _mm_prefetch(g + off, _MM_HINT_T0);
       }
+      _mm_prefetch(g + gBytes - 1, _MM_HINT_T0);
       p = reinterpret_cast<const char*>(this->Primitives.data() + 4 * std::size_t(group));
       bytes = count * sizeof(PrimitiveData);
     }
@@ -1983,18 +1981,18 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
         const std::uint32_t count = (ref & 7u) + 1;
         const std::uint32_t numGroups = (count + 3) / 4;
         int keep[(kMaxLeafSize + 3) / 4];
-        for (std::uint32_t j = 0; j < numGroups; ++j)
+        for (std::uint32_t g = 0; g < numGroups; ++g)
         {
           detail::BvhLeafBounds bounds;
-          detail::LeafFilterRayBounds<DIM>(this->Groups[first + j], projection, bounds);
-          keep[j] = ((1 << std::min(count - 4 * j, 4u)) - 1) &
+          detail::LeafFilterRayBounds<DIM>(this->Groups[first + g], projection, bounds);
+          keep[g] = ((1 << std::min(count - 4 * g, 4u)) - 1) &
             ~detail::LeafFilterSkipMask(bounds, filterR2);
         }
         const std::int64_t before = best;
-        for (std::uint32_t j = 0; j < numGroups; ++j)
+        for (std::uint32_t g = 0; g < numGroups; ++g)
         {
-          const std::uint32_t base = (first + j) << 2;
-          for (int lanes = keep[j]; lanes; lanes &= lanes - 1)
+          const std::uint32_t base = (first + g) << 2;
+          for (int lanes = keep[g]; lanes; lanes &= lanes - 1)
           {
             const std::uint32_t i = base + static_cast<std::uint32_t>(CountTrailingZeros(lanes));
             double tHit;
