@@ -7,7 +7,9 @@
 // than what it already holds; testing each one in double means reading its
 // 72 bytes and running the full kernel. The float copy (36 bytes per
 // triangle, four primitives interleaved per coordinate) is read and tested
-// with one SIMD instruction sequence per four.
+// with one SIMD instruction sequence per four, or per two groups of four
+// with AVX2 (the lane templates of BvhLeafFilterLanes.h compiled again for
+// AVX2, with the same bits per lane).
 //
 // The bound. For ANY vector n and a triangle (or segment) T with vertices
 // V_i, every point p of T is a convex combination of the V_i, so
@@ -43,6 +45,7 @@
 #define GRIDFREE_GEOMETRY_BVH_LEAF_FILTER_H
 
 #include <gridfree/geometry/FloatRounding.h>
+#include <gridfree/geometry/SimdDispatch.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -55,6 +58,9 @@
   (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
 #include <emmintrin.h>
 #define GRIDFREE_LEAF_FILTER_USE_SSE 1
+#endif
+#ifdef GRIDFREE_SIMD_DISPATCH
+#include <immintrin.h>
 #endif
 
 namespace gridfree
@@ -132,116 +138,6 @@ struct LeafFilterScalar
   static F Select(F m, F a, F b) { return Test(m) ? a : b; }
 };
 
-/// The filter's bound (see above) for lanes with d[i] = x - V_i (NV
-/// vertices, ND coordinates) and any direction n: a float Low with
-/// Low / |n| <= the distance from x to the primitive (the hull of the V_i,
-/// taken as exact), or -1 where no positive bound is proved (NaN included).
-template <class L, int NV, int ND>
-inline typename L::F LeafFilterLow(
-  const typename L::F (&d)[NV][ND], const typename L::F (&n)[ND], typename L::F nn)
-{
-  using F = typename L::F;
-  const F zero = L::Set(0.0f);
-  // Below 2^-100 the squares may be subnormal and lose relative precision.
-  F valid = L::Gt(nn, L::Set(0x1p-100f));
-  F low = zero;
-  for (int i = 0; i < NV; ++i)
-  {
-    F sum = L::Mul(n[0], d[i][0]);
-    F mag = L::Abs(sum);
-    for (int k = 1; k < ND; ++k)
-    {
-      const F p = L::Mul(n[k], d[i][k]);
-      sum = L::Add(sum, p);
-      mag = L::Add(mag, L::Abs(p));
-    }
-    const F li = L::Sub(L::Sub(sum, L::Mul(mag, L::Set(0x1p-20f))), L::Set(FLT_MIN));
-    valid = L::And(valid, L::Gt(li, zero)); // false for NaN
-    low = i == 0 ? li : L::Min(low, li);
-  }
-  return L::Select(valid, low, L::Set(-1.0f));
-}
-
-/// Direction n = x - c for c the float closest point of each lane's
-/// primitive (a segment if NV = 2, a triangle if NV = 3, in ND coordinates),
-/// given d[i] = x - V_i.
-template <class L, int NV, int ND>
-inline void LeafFilterDirection(const typename L::F (&d)[NV][ND], typename L::F (&n)[ND])
-{
-  using F = typename L::F;
-  const F zero = L::Set(0.0f);
-  const F one = L::Set(1.0f);
-  auto dot = [](const F* a, const F* b)
-  {
-    F s = L::Mul(a[0], b[0]);
-    for (int k = 1; k < ND; ++k)
-    {
-      s = L::Add(s, L::Mul(a[k], b[k]));
-    }
-    return s;
-  };
-  F e1[ND];
-  for (int k = 0; k < ND; ++k)
-  {
-    e1[k] = L::Sub(d[0][k], d[1][k]); // V1 - V0
-  }
-  static_assert(NV == 2 || NV == 3, "segments or triangles");
-  if constexpr (NV == 2)
-  {
-    // Segment: the projection clamped to [0, 1]; a zero-length segment gives
-    // NaN, which Max turns into 0.
-    const F s = L::Min(L::Max(L::Div(dot(d[0], e1), dot(e1, e1)), zero), one);
-    for (int k = 0; k < ND; ++k)
-    {
-      n[k] = L::Sub(d[0][k], L::Mul(e1[k], s));
-    }
-  }
-  else
-  {
-    F e2[ND];
-    for (int k = 0; k < ND; ++k)
-    {
-      e2[k] = L::Sub(d[0][k], d[2][k]); // V2 - V0
-    }
-    // Ericson's regions (Real-Time Collision Detection, 5.1.5) without
-    // branches: the closest point V0 + e1 s + e2 t of each region, selected
-    // from the lowest priority to the highest.
-    const F d1 = dot(e1, d[0]), d2 = dot(e2, d[0]);
-    const F d3 = dot(e1, d[1]), d4 = dot(e2, d[1]);
-    const F d5 = dot(e1, d[2]), d6 = dot(e2, d[2]);
-    const F va = L::Sub(L::Mul(d3, d6), L::Mul(d5, d4));
-    const F vb = L::Sub(L::Mul(d5, d2), L::Mul(d1, d6));
-    const F vc = L::Sub(L::Mul(d1, d4), L::Mul(d3, d2));
-    const F inv = L::Div(one, L::Add(L::Add(va, vb), vc));
-    F s = L::Mul(vb, inv); // inside the face
-    F t = L::Mul(vc, inv);
-    const F d43 = L::Sub(d4, d3), d56 = L::Sub(d5, d6);
-    const F onBC = L::And(L::Le(va, zero), L::And(L::Le(zero, d43), L::Le(zero, d56)));
-    const F tBC = L::Div(d43, L::Add(d43, d56));
-    s = L::Select(onBC, L::Sub(one, tBC), s);
-    t = L::Select(onBC, tBC, t);
-    const F onAC = L::And(L::Le(vb, zero), L::And(L::Le(zero, d2), L::Le(d6, zero)));
-    s = L::Select(onAC, zero, s);
-    t = L::Select(onAC, L::Div(d2, L::Sub(d2, d6)), t);
-    const F atC = L::And(L::Le(zero, d6), L::Le(d5, d6));
-    s = L::Select(atC, zero, s);
-    t = L::Select(atC, one, t);
-    const F onAB = L::And(L::Le(vc, zero), L::And(L::Le(zero, d1), L::Le(d3, zero)));
-    s = L::Select(onAB, L::Div(d1, L::Sub(d1, d3)), s);
-    t = L::Select(onAB, zero, t);
-    const F atB = L::And(L::Le(zero, d3), L::Le(d4, d3));
-    s = L::Select(atB, one, s);
-    t = L::Select(atB, zero, t);
-    const F atA = L::And(L::Le(d1, zero), L::Le(d2, zero));
-    s = L::Select(atA, zero, s);
-    t = L::Select(atA, zero, t);
-    for (int k = 0; k < ND; ++k)
-    {
-      n[k] = L::Sub(L::Sub(d[0][k], L::Mul(e1[k], s)), L::Mul(e2[k], t));
-    }
-  }
-}
-
 /// What the filter computes once per group and query, for any radius after:
 /// per lane the bound Low of LeafFilterLow and |n|^2, which is also the
 /// squared distance computed in float (an estimate, to pick which primitive
@@ -252,20 +148,9 @@ struct alignas(16) BvhLeafBounds
   float Norm2[4];
 };
 
-/// Low and |n|^2 of lanes with d[i] = x - V_i, n from LeafFilterDirection.
-template <class L, int NV, int ND>
-inline void LeafFilterLaneBounds(
-  const typename L::F (&d)[NV][ND], typename L::F& low, typename L::F& nn)
-{
-  typename L::F n[ND];
-  LeafFilterDirection<L, NV, ND>(d, n);
-  nn = L::Mul(n[0], n[0]);
-  for (int k = 1; k < ND; ++k)
-  {
-    nn = L::Add(nn, L::Mul(n[k], n[k]));
-  }
-  low = LeafFilterLow<L, NV, ND>(d, n, nn);
-}
+// The lane templates: LeafFilterLow, LeafFilterDirection,
+// LeafFilterLaneBounds (instantiated again for AVX2 lanes below).
+#include <gridfree/geometry/BvhLeafFilterLanes.h>
 
 /// Runs the filter on the four lanes of a group: fill(L, load, d) writes
 /// d[i] = x - V_i of the lanes, with load(lanes) giving a group row (4
@@ -291,6 +176,7 @@ inline void LeafFilterBoundsOf(const Fill& fill, BvhLeafBounds& out)
   }
 #endif
 }
+
 
 /// The filter's bounds of the four primitives of a group from the float
 /// query q (relative to the hierarchy's centre).
@@ -400,6 +286,100 @@ inline void LeafFilterRayBounds(
     },
     out);
 }
+
+#ifdef GRIDFREE_SIMD_DISPATCH
+// The same lane templates again, compiled for AVX2 (as the searches of
+// GRIDFREE_TARGET_AVX2 are, contraction off), so that eight-lane values never
+// pass through code of another instruction set.
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,bmi,bmi2,popcnt")
+#pragma GCC optimize("fp-contract=off")
+namespace avx2
+{
+#include <gridfree/geometry/BvhLeafFilterLanes.h>
+
+/// Eight lanes (two groups) with AVX2, for the searches compiled for AVX2
+/// and AVX-512. Each operation rounds as its SSE counterpart does, and
+/// compares and selects the same way on NaN, so each lane's result is the
+/// bits the SSE path computes for it.
+struct LeafFilterAvx2
+{
+  using F = __m256;
+  static F Set(float v) { return _mm256_set1_ps(v); }
+  static F Add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F Sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F Mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F Div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F Min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F Max(F a, F b) { return _mm256_max_ps(a, b); }
+  static F Abs(F a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
+  static F Le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OS); }
+  static F Gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OS); }
+  static F And(F a, F b) { return _mm256_and_ps(a, b); }
+  static F Select(F m, F a, F b)
+  {
+    return _mm256_or_ps(_mm256_and_ps(m, a), _mm256_andnot_ps(m, b));
+  }
+};
+
+/// LeafFilterBounds of two consecutive groups at once, in eight AVX2 lanes:
+/// the same bits as two calls.
+template <int DIM>
+inline void LeafFilterBoundsPair(
+  const BvhLeafGroup<DIM>* g, const float (&q)[DIM], BvhLeafBounds (&out)[2])
+{
+  using L = LeafFilterAvx2;
+  __m256 d[DIM][DIM];
+  for (int i = 0; i < DIM; ++i)
+  {
+    for (int k = 0; k < DIM; ++k)
+    {
+      const __m256 v = _mm256_insertf128_ps(
+        _mm256_castps128_ps256(_mm_load_ps(g[0].V[i][k])), _mm_load_ps(g[1].V[i][k]), 1);
+      d[i][k] = L::Sub(L::Set(q[k]), v);
+    }
+  }
+  __m256 low, nn;
+  LeafFilterLaneBounds<L, DIM, DIM>(d, low, nn);
+  _mm_store_ps(out[0].Norm2, _mm256_castps256_ps128(nn));
+  _mm_store_ps(out[1].Norm2, _mm256_extractf128_ps(nn, 1));
+  _mm_store_ps(out[0].Low, _mm256_castps256_ps128(low));
+  _mm_store_ps(out[1].Low, _mm256_extractf128_ps(low, 1));
+}
+
+/// LeafFilterRayBounds of two consecutive groups at once, in eight AVX2
+/// lanes: the same bits as two calls.
+template <int DIM>
+inline void LeafFilterRayBoundsPair(
+  const BvhLeafGroup<DIM>* g, const LeafRayProjection<DIM>& ray, BvhLeafBounds (&out)[2])
+{
+  using L = LeafFilterAvx2;
+  auto load = [&](int i, int k)
+  {
+    return _mm256_insertf128_ps(
+      _mm256_castps128_ps256(_mm_load_ps(g[0].V[i][k])), _mm_load_ps(g[1].V[i][k]), 1);
+  };
+  __m256 d[DIM][DIM - 1];
+  for (int i = 0; i < DIM; ++i)
+  {
+    const __m256 along = L::Sub(L::Set(ray.Origin[ray.Dominant]), load(i, ray.Dominant));
+    for (int j = 0; j < DIM - 1; ++j)
+    {
+      const int k = ray.Axis[j];
+      d[i][j] =
+        L::Sub(L::Sub(L::Set(ray.Origin[k]), load(i, k)), L::Mul(L::Set(ray.Shear[j]), along));
+    }
+  }
+  __m256 low, nn;
+  LeafFilterLaneBounds<L, DIM, DIM - 1>(d, low, nn);
+  _mm_store_ps(out[0].Norm2, _mm256_castps256_ps128(nn));
+  _mm_store_ps(out[1].Norm2, _mm256_extractf128_ps(nn, 1));
+  _mm_store_ps(out[0].Low, _mm256_castps256_ps128(low));
+  _mm_store_ps(out[1].Low, _mm256_extractf128_ps(low, 1));
+}
+} // namespace avx2
+#pragma GCC pop_options
+#endif
 
 /// The lanes (bits 0..3) whose primitive the bounds prove farther than
 /// sqrt(r2), r2 from LeafFilterRadius2: Low > 0 and Low^2 > r2 |n|^2.
