@@ -8,10 +8,8 @@
 // eight-lane instantiations are AVX2 functions (a __m256 passed between
 // functions of another instruction set would change their ABI). Hence no
 // include guard and no includes of its own.
-//
-// The lane templates take and give lanes by reference.
 
-/// The filter's bound (see above) for lanes with d[i] = x - V_i (NV
+/// The filter's bound (see BvhLeafFilter.h) for lanes with d[i] = x - V_i (NV
 /// vertices, ND coordinates) and any direction n: a float Low with
 /// Low / |n| <= the distance from x to the primitive (the hull of the V_i,
 /// taken as exact), or -1 where no positive bound is proved (NaN included).
