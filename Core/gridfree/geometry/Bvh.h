@@ -336,15 +336,18 @@ private:
   /// box: Origin + q * Scale, with the codes rounded outward so decoded boxes
   /// always enclose the true ones. Coordinates are relative to Center (the
   /// middle of the whole boundary) so that float precision is not wasted on an
-  /// offset. Unused slots hold kEmptyChild.
+  /// offset. Unused slots hold kEmptyChild. Q[kLow] holds the low sides'
+  /// codes and Q[kHigh] the high sides', so that a ray picks the side it
+  /// enters through by index rather than by a branch.
   struct alignas(64) Node
   {
     float Origin[DIM];
     float Scale[DIM];
-    std::uint8_t QLo[DIM][kWidth];
-    std::uint8_t QHi[DIM][kWidth];
+    std::uint8_t Q[2][DIM][kWidth];
     std::uint32_t Child[kWidth];
   };
+  static constexpr int kLow = 0;
+  static constexpr int kHigh = 1;
 
   using PrimitiveData = detail::BvhPrimitive<DIM>;
 
@@ -502,6 +505,14 @@ private:
   /// Decoded bounds along axis k of the 4 child boxes of group g.
   static void DecodeAxis(const Node& node, int k, int g, __m128& lo, __m128& hi)
   {
+    DecodeSides(node, k, g, kLow, lo, hi);
+  }
+
+  /// Decoded bounds along axis k of the 4 child boxes of group g: first the
+  /// side `first` (kLow or kHigh), then the other one.
+  static void DecodeSides(
+    const Node& node, int k, int g, int first, __m128& firstSide, __m128& otherSide)
+  {
     const __m128i zero = _mm_setzero_si128();
     auto codes = [&](const std::uint8_t* q) { // 4 bytes -> 4 floats
       std::int32_t bits;
@@ -511,8 +522,8 @@ private:
     };
     const __m128 origin = _mm_set1_ps(node.Origin[k]);
     const __m128 scale = _mm_set1_ps(node.Scale[k]);
-    lo = _mm_add_ps(origin, _mm_mul_ps(codes(node.QLo[k] + 4 * g), scale));
-    hi = _mm_add_ps(origin, _mm_mul_ps(codes(node.QHi[k] + 4 * g), scale));
+    firstSide = _mm_add_ps(origin, _mm_mul_ps(codes(node.Q[first][k] + 4 * g), scale));
+    otherSide = _mm_add_ps(origin, _mm_mul_ps(codes(node.Q[first ^ 1][k] + 4 * g), scale));
   }
 #endif
 
@@ -532,8 +543,8 @@ private:
 #else
       for (int c = 0; c < kWidth; ++c)
       {
-        lo[k][c] = node.Origin[k] + node.QLo[k][c] * node.Scale[k];
-        hi[k][c] = node.Origin[k] + node.QHi[k][c] * node.Scale[k];
+        lo[k][c] = node.Origin[k] + node.Q[kLow][k][c] * node.Scale[k];
+        hi[k][c] = node.Origin[k] + node.Q[kHigh][k][c] * node.Scale[k];
       }
 #endif
     }
@@ -608,50 +619,14 @@ private:
 #endif
   }
 
-  /// Ray traversal: the children in `mask` (empty slots skipped), sorted by
-  /// key, are prefetched (random queries over a large mesh are bound by
-  /// memory latency, so the misses should overlap); all but the nearest are
-  /// pushed, farthest first. Returns the nearest, or kEmptyChild if none.
-  std::uint32_t VisitSorted(
-    const Node& node, int mask, const float* keys, Entry* stack, int& top) const
-  {
-    Entry hits[kWidth];
-    int numHits = 0;
-    for (int m = mask; m; m &= m - 1)
-    {
-      const int c = CountTrailingZeros(m);
-      if (node.Child[c] != kEmptyChild)
-      {
-        const Entry e{ node.Child[c], keys[c] };
-        int j = numHits++;
-        for (; j > 0 && hits[j - 1].Key > e.Key; --j)
-        {
-          hits[j] = hits[j - 1];
-        }
-        hits[j] = e;
-      }
-    }
-    if (numHits == 0)
-    {
-      return kEmptyChild;
-    }
-    for (int j = 0; j < numHits; ++j)
-    {
-      this->Prefetch(hits[j].Ref);
-    }
-    for (int j = numHits - 1; j > 0; --j)
-    {
-      stack[top++] = hits[j];
-    }
-    return hits[0].Ref;
-  }
-
-  /// Nearest search: VisitSorted for a mask of two or more non-empty
-  /// children, in the same order, ranked without branches (BvhChildOrder.h).
-  /// The nearest child comes from the ranks directly, not through the stack,
-  /// so the next node's address does not wait for the pushes. (Rays keep the
-  /// insertion sort: their children's order along a ray is predictable, and
-  /// there the ranks measured a few percent slower.)
+  /// Nearest searches and rays, for a mask of two or more non-empty children:
+  /// all are prefetched (random queries over a large mesh are bound by memory
+  /// latency, so the misses should overlap), the nearest by key is returned,
+  /// and the others are pushed farthest first, in the order of a stable sort,
+  /// ranked without branches (BvhChildOrder.h). The nearest child comes from
+  /// the ranks directly, not through the stack, so the next node's address
+  /// does not wait for the pushes. (An insertion sort lost about a third of
+  /// its comparisons to the branch predictor, for rays as well.)
   std::uint32_t VisitRanked(
     const Node& node, int mask, const float* keys, Entry* stack, int& top) const
   {
@@ -735,12 +710,15 @@ private:
     float NearOrigin[DIM];
     float FarOrigin[DIM];
     float InvDirection[DIM];
-    bool Negative[DIM];
+    int NearSide[DIM]; // kHigh where the direction is negative, else kLow
   };
 
   /// Float slab test of the ray against the child boxes: entry receives lower
-  /// bounds of the entry parameters, and the mask marks the children whose
-  /// interval [entry, exit] can meet [tMin, tMax].
+  /// bounds of the entry parameters, and the mask marks the non-empty
+  /// children whose interval [entry, exit] can meet [tMin, tMax]. (Empty
+  /// slots are left out explicitly: where a node's scale is zero, or along an
+  /// axis the ray does not move on, an inverted box's slabs need not be
+  /// empty.)
   ///
   /// The origin bounds enclose the exact origin and the decoded boxes the
   /// exact ones, so before rounding each slab interval contains the exact
@@ -765,20 +743,23 @@ private:
       __m128 tFar = _mm_set1_ps(tMax);
       for (int k = 0; k < DIM; ++k)
       {
-        __m128 lo, hi;
-        DecodeAxis(node, k, g, lo, hi);
+        // The side is picked by index: the sign of the direction changes
+        // from ray to ray, so a branch on it would be mispredicted often.
+        __m128 nearSide, farSide;
+        DecodeSides(node, k, g, q.NearSide[k], nearSide, farSide);
         const __m128 inv = _mm_set1_ps(q.InvDirection[k]);
-        const __m128 n =
-          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? hi : lo, _mm_set1_ps(q.NearOrigin[k])), inv);
-        const __m128 f =
-          _mm_mul_ps(_mm_sub_ps(q.Negative[k] ? lo : hi, _mm_set1_ps(q.FarOrigin[k])), inv);
+        const __m128 n = _mm_mul_ps(_mm_sub_ps(nearSide, _mm_set1_ps(q.NearOrigin[k])), inv);
+        const __m128 f = _mm_mul_ps(_mm_sub_ps(farSide, _mm_set1_ps(q.FarOrigin[k])), inv);
         tNear = _mm_max_ps(n, tNear);
         tFar = _mm_min_ps(f, tFar);
       }
       tNear = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(tNear, down), _mm_mul_ps(tNear, up)), tiny);
       tFar = _mm_add_ps(_mm_max_ps(_mm_mul_ps(tFar, up), _mm_mul_ps(tFar, down)), tiny);
       _mm_storeu_ps(entry + 4 * g, tNear);
-      mask |= _mm_movemask_ps(_mm_cmple_ps(tNear, tFar)) << (4 * g);
+      const __m128 empty = _mm_castsi128_ps(_mm_cmpeq_epi32(
+        _mm_loadu_si128(reinterpret_cast<const __m128i*>(node.Child + 4 * g)),
+        _mm_set1_epi32(-1)));
+      mask |= _mm_movemask_ps(_mm_andnot_ps(empty, _mm_cmple_ps(tNear, tFar))) << (4 * g);
     }
     return mask;
 #else
@@ -791,17 +772,18 @@ private:
       float tFar = tMax;
       for (int k = 0; k < DIM; ++k)
       {
+        const bool negative = q.NearSide[k] == kHigh;
         const float n =
-          ((q.Negative[k] ? hi[k][c] : lo[k][c]) - q.NearOrigin[k]) * q.InvDirection[k];
+          ((negative ? hi[k][c] : lo[k][c]) - q.NearOrigin[k]) * q.InvDirection[k];
         const float f =
-          ((q.Negative[k] ? lo[k][c] : hi[k][c]) - q.FarOrigin[k]) * q.InvDirection[k];
+          ((negative ? lo[k][c] : hi[k][c]) - q.FarOrigin[k]) * q.InvDirection[k];
         tNear = n > tNear ? n : tNear; // NaN leaves the bound unchanged
         tFar = f < tFar ? f : tFar;
       }
       tNear = std::min(tNear * (1.0f - 0x1p-20f), tNear * (1.0f + 0x1p-20f)) - FLT_MIN;
       tFar = std::max(tFar * (1.0f + 0x1p-20f), tFar * (1.0f - 0x1p-20f)) + FLT_MIN;
       entry[c] = tNear;
-      mask |= (tNear <= tFar) << c;
+      mask |= (tNear <= tFar && node.Child[c] != kEmptyChild) << c;
     }
     return mask;
 #endif
@@ -1497,8 +1479,8 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
     {
       if (i >= count)
       {
-        node.QLo[k][i] = 255; // empty slot: inverted box, never visited anyway
-        node.QHi[k][i] = 0;
+        node.Q[kLow][k][i] = 255; // empty slot: inverted box, never visited anyway
+        node.Q[kHigh][k][i] = 0;
         continue;
       }
       const double clo = lower(kids[i].Box.Min[k] - this->Center[k]);
@@ -1518,8 +1500,8 @@ void Bvh<DIM>::EncodeBoxes(Node& node, const Range* kids, int count) const
       {
         ++qh;
       }
-      node.QLo[k][i] = static_cast<std::uint8_t>(ql);
-      node.QHi[k][i] = static_cast<std::uint8_t>(qh);
+      node.Q[kLow][k][i] = static_cast<std::uint8_t>(ql);
+      node.Q[kHigh][k][i] = static_cast<std::uint8_t>(qh);
     }
   }
 }
@@ -1979,7 +1961,7 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
     if (std::abs(dk) >= 0x1p-100)
     {
       q.InvDirection[k] = static_cast<float>(1.0 / dk);
-      q.Negative[k] = dk < 0.0;
+      q.NearSide[k] = dk < 0.0 ? kHigh : kLow;
     }
     else
     {
@@ -1987,13 +1969,14 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
       // tBound * 2^-99 along this axis (2^-100 plus underflow of the scaling),
       // which the origin interval absorbs.
       q.InvDirection[k] = std::numeric_limits<float>::infinity();
-      q.Negative[k] = false;
+      q.NearSide[k] = kLow;
       e += tBound * 0x1p-99;
     }
     const float lo = detail::FloatDown(y[k] - e);
     const float hi = detail::FloatUp(y[k] + e);
-    q.NearOrigin[k] = q.Negative[k] ? lo : hi;
-    q.FarOrigin[k] = q.Negative[k] ? hi : lo;
+    const float originBounds[2] = { hi, lo }; // by near side, without a branch
+    q.NearOrigin[k] = originBounds[q.NearSide[k]];
+    q.FarOrigin[k] = originBounds[q.NearSide[k] ^ 1];
   }
 
   // Window in t' units. The margin of 2^-30 of |t| + |tc| is generous for the
@@ -2087,11 +2070,17 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
       const Node& node = this->Nodes[ref];
       float entries[kWidth];
       const int mask = RayBoxes(node, q, tMinBox, tMaxBox, entries);
-      ref = this->VisitSorted(node, mask, entries, stack, top);
-      if (ref == kEmptyChild)
+      if (mask == 0)
       {
         break;
       }
+      if ((mask & (mask - 1)) == 0) // a single child: nothing to sort or push
+      {
+        ref = node.Child[CountTrailingZeros(mask)];
+        this->Prefetch(ref);
+        continue;
+      }
+      ref = this->VisitRanked(node, mask, entries, stack, top);
     }
   }
   return best;
