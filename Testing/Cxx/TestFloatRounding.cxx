@@ -121,3 +121,50 @@ TEST(FloatRounding, RandomValuesMatchTheReference)
     }
   }
 }
+
+// Scaling by a power of two has std::ldexp's bits: exact, overflowing to
+// infinity, or rounded once into the subnormals, for exponents within and
+// beyond the normal range.
+TEST(FloatRounding, ScaleByPowerOfTwoMatchesLdexp)
+{
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+  std::uniform_int_distribution<int> exponent(-1074, 1023);
+  std::uniform_int_distribution<int> shift(-1100, 1100);
+  auto bits = [](double d)
+  {
+    std::uint64_t b;
+    std::memcpy(&b, &d, sizeof b);
+    return b;
+  };
+  const std::vector<double> specials = { 0.0, -0.0, kInf, -kInf, std::nan(""),
+    std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::min(), -1.5, 3.0 };
+  for (double x : specials)
+  {
+    for (int n : { -1100, -1075, -1074, -1023, -1022, -60, -1, 0, 1, 60, 1023, 1024, 1100 })
+    {
+      const double got = gridfree::detail::ScaleByPowerOfTwo(x, n);
+      const double want = std::ldexp(x, n);
+      if (std::isnan(want))
+      {
+        EXPECT_TRUE(std::isnan(got));
+      }
+      else
+      {
+        EXPECT_EQ(bits(got), bits(want)) << x << " * 2^" << n;
+      }
+    }
+  }
+  for (int i = 0; i < 200000; ++i)
+  {
+    double x = std::ldexp(mantissa(rng), exponent(rng));
+    if (rng() & 1)
+    {
+      x = -x;
+    }
+    const int n = shift(rng);
+    ASSERT_EQ(bits(gridfree::detail::ScaleByPowerOfTwo(x, n)), bits(std::ldexp(x, n)))
+      << x << " * 2^" << n;
+  }
+}

@@ -1956,7 +1956,7 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
   RayBoxQuery q;
   for (int k = 0; k < DIM; ++k)
   {
-    const double dk = std::ldexp(direction[k], shift);
+    const double dk = detail::ScaleByPowerOfTwo(direction[k], shift);
     double e = err[k];
     if (std::abs(dk) >= 0x1p-100)
     {
@@ -1985,12 +1985,14 @@ std::int64_t Bvh<DIM>::TraceRayBaseline(const Vec<DIM>& origin, const Vec<DIM>& 
   // test never makes the traversal miss a primitive whose computed t is lower.
   auto lowerT = [&](double v)
   {
-    const double s = std::ldexp(v - tc - (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    const double s =
+      detail::ScaleByPowerOfTwo(v - tc - (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
     return detail::FloatDown(std::max(s, -tBound));
   };
   auto upperT = [&](double v)
   {
-    const double s = std::ldexp(v - tc + (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
+    const double s =
+      detail::ScaleByPowerOfTwo(v - tc + (std::abs(v) + std::abs(tc)) * 0x1p-30, -shift);
     return detail::FloatUp(std::min(s, tBound));
   };
   const float tMinBox = lowerT(tMin);
