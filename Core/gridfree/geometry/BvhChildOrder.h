@@ -1,5 +1,6 @@
-// The order in which a nearest search visits the children of a 4-wide node:
-// by a lower bound of their squared distance, ties in slot order.
+// The order in which nearest searches and rays visit the children of a
+// 4-wide node: by a lower bound of their squared distance, or of the ray's
+// entry parameter, ties in slot order.
 //
 // Sorting up to four nearly equal keys with branches is a coin toss the
 // branch predictor loses about half the time; near the surface of a mesh
