@@ -45,6 +45,15 @@ void ExpectStableRanks(int mask, const std::array<float, 4>& keys)
       << "mask " << mask << " keys " << keys[0] << ' ' << keys[1] << ' ' << keys[2] << ' '
       << keys[3];
   }
+  // Outside the mask the rank is 0: the searches write those children to
+  // the scratch slot above the stack's top.
+  for (int c = 0; c < 4; ++c)
+  {
+    if (!(mask >> c & 1))
+    {
+      EXPECT_EQ(rank[c], 0) << "mask " << mask << " slot " << c;
+    }
+  }
 }
 
 TEST(BvhChildOrder, RanksAreTheStableOrderForEveryMask)

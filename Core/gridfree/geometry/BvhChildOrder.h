@@ -42,9 +42,8 @@ inline int LowestSetBit(int mask)
 
 /// Ranks of the children in `mask` (bits 0..3, at least one set) by key,
 /// ties to the lower slot: rank[c] counts the children of the mask that come
-/// before c. Returns the child of rank 0. Keys of the mask must not be NaN
-/// (the searches leave such children out); rank[] is unspecified outside
-/// the mask.
+/// before c, and is 0 outside the mask. Returns the child of rank 0. Keys
+/// of the mask must not be NaN (the searches leave such children out).
 inline int RankFourChildren(int mask, const float* keys, int* rank)
 {
 #ifdef GRIDFREE_BVH_CHILD_ORDER_SSE
@@ -69,7 +68,8 @@ inline int RankFourChildren(int mask, const float* keys, int* rank)
   const __m128i b3 =
     before(_mm_shuffle_ps(k, k, _MM_SHUFFLE(2, 1, 0, 3)), _mm_set_epi32(-1, -1, -1, 0));
   // Each true comparison is -1.
-  const __m128i r = _mm_sub_epi32(_mm_setzero_si128(), _mm_add_epi32(_mm_add_epi32(b1, b2), b3));
+  const __m128i r = _mm_and_si128(_mm_castps_si128(in),
+    _mm_sub_epi32(_mm_setzero_si128(), _mm_add_epi32(_mm_add_epi32(b1, b2), b3)));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(rank), r);
   return LowestSetBit(
     _mm_movemask_ps(_mm_and_ps(in, _mm_castsi128_ps(_mm_cmpeq_epi32(r, _mm_setzero_si128())))));
@@ -82,6 +82,7 @@ inline int RankFourChildren(int mask, const float* keys, int* rank)
     {
       rank[c] += (mask >> d & 1) && (keys[d] < keys[c] || (keys[d] == keys[c] && d < c));
     }
+    rank[c] &= -(mask >> c & 1);
     first = (mask >> c & 1) && rank[c] == 0 ? c : first;
   }
   return first;
