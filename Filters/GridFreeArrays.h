@@ -1,6 +1,6 @@
 // Small helpers for the arrays the GridFree filters read and write: new
-// double arrays (NaN until written, so points an aborted run did not reach
-// never show a plausible-looking zero), one-number field arrays (run
+// double arrays (NaN until written, so points an aborted run left without
+// walks never show a plausible-looking zero), one-number field arrays (run
 // summaries such as TotalWalks), and any numeric array as row-major doubles
 // (the estimator core's layout).
 // Private to the GridFree::Filters module.

@@ -13,6 +13,7 @@
 #include <gridfree/estimators/DerivativeWalkOnSpheres.h>
 #include <gridfree/statistics/RunningStatistics.h>
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -98,6 +99,42 @@ struct DerivativeArrays
       }
     }
     this->Status->SetValue(id, static_cast<unsigned char>(status));
+  }
+
+  // Points without a derivative (no ball found, no walk run before an
+  // abort, a probe point with NaN coordinates) get 0, not NaN, as
+  // DerivativeStatus 2 says: VTK's stream tracer asserts on a NaN vector
+  // (its cell search meets a NaN point) and glyphs of NaN are undefined.
+  // Their variances stay NaN where unknown.
+  void ZeroWhereMissing()
+  {
+    for (vtkDoubleArray* a :
+      { this->Gradient.Get(), this->Hessian.Get(), this->Directional.Get(),
+        this->Divergence.Get(), this->Curl.Get() })
+    {
+      if (!a)
+      {
+        continue;
+      }
+      const vtkIdType n = a->GetNumberOfTuples();
+      const int components = a->GetNumberOfComponents();
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        bool missing = false;
+        for (int k = 0; k < components && !missing; ++k)
+        {
+          missing = !std::isfinite(a->GetTypedComponent(i, k));
+        }
+        if (missing)
+        {
+          for (int k = 0; k < components; ++k)
+          {
+            a->SetTypedComponent(i, k, 0.0);
+          }
+          this->Status->SetValue(i, 2);
+        }
+      }
+    }
   }
 
   void AddTo(vtkPointData* pd, int nc)

@@ -1,8 +1,9 @@
 // Fingerprints of what a solve is computed from, to decide whether kept
-// results (running sums, a built boundary) still apply: a dataset by its
-// arrays (points, cells, point, cell and field data) by identity and
-// modification time and by the values that define an image's or a
-// rectilinear grid's geometry; any other object by its modification time.
+// results (running sums, a built boundary) still apply: a dataset by the
+// values of its arrays (points, cells, point, cell and field data; hashed,
+// each array once while it is unchanged) and by the values that define an
+// image's or a rectilinear grid's geometry; any other object by its
+// identity and modification time.
 // Private to the GridFree::Filters module.
 #ifndef GridFreeInputFingerprint_h
 #define GridFreeInputFingerprint_h

@@ -56,6 +56,47 @@ std::string DescribeDuration(double seconds)
   return std::to_string(static_cast<long long>(seconds + 0.5)) + " seconds";
 }
 
+// Adds a note to the filter's progress text (what ParaView's progress bar
+// shows) for the rest of a batch, and puts the text back when the batch
+// ends, however it ends.
+class ProgressLabel
+{
+public:
+  ProgressLabel() = default;
+  ProgressLabel(const ProgressLabel&) = delete;
+  ProgressLabel& operator=(const ProgressLabel&) = delete;
+  ~ProgressLabel()
+  {
+    if (this->Algorithm)
+    {
+      this->Algorithm->SetProgressText(this->Had ? this->Before.c_str() : nullptr);
+    }
+  }
+  void Show(vtkAlgorithm* algorithm, const std::string& note)
+  {
+    if (!this->Algorithm)
+    {
+      this->Algorithm = algorithm;
+      this->Had = algorithm->GetProgressText() != nullptr;
+      this->Before = this->Had ? algorithm->GetProgressText() : "";
+    }
+    std::string name = this->Before;
+    if (name.empty())
+    {
+      // ParaView's label for an algorithm without a text: its class name
+      // without "vtk".
+      name = algorithm->GetClassName();
+      name = name.rfind("vtk", 0) == 0 ? name.substr(3) : name;
+    }
+    algorithm->SetProgressText((name + ", " + note).c_str());
+  }
+
+private:
+  vtkAlgorithm* Algorithm = nullptr;
+  bool Had = false;
+  std::string Before;
+};
+
 // Hands a warning, written as VTK's macros take it, to the run's Warn.
 #define GRIDFREE_WARN(text)                                                                        \
   do                                                                                               \
@@ -270,14 +311,12 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     }
     batch.TargetStandardError = target;
   }
-  vtkSmartPointer<vtkIntArray> walksAtPoint;
-  if (target > 0.0)
-  {
-    walksAtPoint = vtkSmartPointer<vtkIntArray>::New();
-    walksAtPoint->SetName("WalkCount");
-    walksAtPoint->SetNumberOfTuples(numPoints);
-    walksAtPoint->Fill(0);
-  }
+  // The walks each point took: in the output with a target (points stop
+  // at different counts) and after an abort (points hold what they ran).
+  auto walksAtPoint = vtkSmartPointer<vtkIntArray>::New();
+  walksAtPoint->SetName("WalkCount");
+  walksAtPoint->SetNumberOfTuples(numPoints);
+  walksAtPoint->Fill(0);
 
   // Progressive refinement: the batch continues from the running sums the
   // caller kept (it forgot them if anything but WalksPerPoint changed) and
@@ -288,6 +327,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   // long is announced (abort stays possible: walks run in chunks that
   // check for it).
   bool announced = false;
+  ProgressLabel progressLabel;
   auto reportProgress = [&](const BatchProgress& p)
   {
     if (!announced && run.AnnounceLongSolves && p.WalksRun > 0 && p.Seconds >= kRateSeconds)
@@ -304,6 +344,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
                       << " at the current rate (" << numPoints << " points, " << walks
                       << " walks per point): lower WalksPerPoint or the "
                          "probe's resolution, or abort it.");
+        // Also on the progress bar, which ParaView repaints during the
+        // solve whatever its Output Messages window does.
+        progressLabel.Show(self, "about " + DescribeDuration(projected) + " in all");
       }
     }
     self->UpdateProgress(run.ProgressBegin + (run.ProgressEnd - run.ProgressBegin) * p.Fraction);
@@ -339,10 +382,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       oneWalkSpread.fetch_add(1, std::memory_order_relaxed);
     }
     steps->SetValue(i, counters.MeanSteps());
-    if (walksAtPoint)
-    {
-      walksAtPoint->SetValue(i, static_cast<int>(counters.Walks));
-    }
+    walksAtPoint->SetValue(i, static_cast<int>(std::min<std::uint64_t>(counters.Walks, VTK_INT_MAX)));
     escaped->SetValue(i, counters.EscapedFraction());
     truncated->SetValue(i, counters.TruncatedFraction());
     if (anyDerivative)
@@ -365,6 +405,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   result.WalksRun = summary.WalksRun;
   result.Seconds = seconds;
   result.Completed = completed;
+  result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
+  result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
 
   pd->AddArray(mean);
   pd->AddArray(variance);
@@ -376,7 +418,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   pd->AddArray(reliable);
   pd->AddArray(varianceError);
   pd->AddArray(steps);
-  if (walksAtPoint)
+  if (target > 0.0 || !completed)
   {
     pd->AddArray(walksAtPoint);
   }
@@ -387,6 +429,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   pd->SetActiveScalars(mean->GetName());
   if (anyDerivative)
   {
+    derivatives.ZeroWhereMissing();
     derivatives.AddTo(pd, nc);
   }
 
@@ -449,10 +492,30 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   }
   if (!completed)
   {
-    GRIDFREE_WARN(<< "Solve aborted: points not reached are NaN.");
+    std::ostringstream rest;
+    const vtkIdType unfinished = numPoints - static_cast<vtkIdType>(summary.PointsFinished);
+    const vtkIdType withWalks = unfinished - static_cast<vtkIdType>(summary.PointsWithoutWalks);
+    if (withWalks > 0)
+    {
+      rest << " " << withWalks << " show the estimate of the walks they hold"
+           << (startWalks > 0 ? " (this solve's so far, or the earlier solve's)" : "")
+           << ", fewer than asked (WalkCount).";
+    }
+    if (summary.PointsWithoutWalks > 0)
+    {
+      rest << " " << summary.PointsWithoutWalks
+           << " have no walks yet: their values are NaN (WalkCount 0)"
+           << (anyDerivative ? " and their derivatives 0 (DerivativeStatus 2)" : "") << ".";
+    }
+    GRIDFREE_WARN(<< "Solve aborted after " << DescribeDuration(seconds) << ": "
+                  << summary.PointsFinished << " of " << numPoints << " probe points have all "
+                  << (target > 0.0 ? "the walks they need" : std::to_string(walks) + " walks")
+                  << "." << rest.str()
+                  << " Apply again (Resume() and Update() in a script) to continue from the "
+                     "walks already run.");
     return false;
   }
-  if (walksAtPoint)
+  if (target > 0.0)
   {
     // Points that took every walk allowed without reaching the target.
     vtkIdType unreached = 0;

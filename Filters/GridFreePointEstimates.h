@@ -62,6 +62,10 @@ struct PointEstimateSummary
   std::int64_t PointsShortOfTarget = 0;
   // Points whose error bar cannot be trusted (ErrorBarReliability.h).
   std::int64_t UnreliableErrorBars = 0;
+  // Points that ran all their walks (all of them unless aborted), and,
+  // after an abort, those that hold no walks at all (NaN).
+  std::int64_t PointsFinished = 0;
+  std::int64_t PointsWithoutWalks = 0;
 };
 
 // The coordinates of `data`'s points, in order.

@@ -51,6 +51,8 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
+  // ParaView's progress bar shows it (instead of the class name).
+  this->SetProgressText("Walk On Spheres Solver");
 }
 
 //------------------------------------------------------------------------------
@@ -63,6 +65,38 @@ void vtkWalkOnSpheresSolver::Modified()
   this->Superclass::Modified();
 }
 
+void vtkWalkOnSpheresSolver::SetAbortExecute(vtkTypeBool abort)
+{
+  this->AbortExecute = abort;
+}
+
+void vtkWalkOnSpheresSolver::SetInputArrayToProcess(
+  int idx, int port, int connection, int fieldAssociation, const char* name)
+{
+  vtkInformation* info = this->GetInputArrayInformation(idx);
+  const bool same = info && info->Has(vtkAlgorithm::INPUT_PORT()) &&
+    info->Get(vtkAlgorithm::INPUT_PORT()) == port &&
+    info->Has(vtkAlgorithm::INPUT_CONNECTION()) &&
+    info->Get(vtkAlgorithm::INPUT_CONNECTION()) == connection &&
+    info->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+    info->Get(vtkDataObject::FIELD_ASSOCIATION()) == fieldAssociation &&
+    !info->Has(vtkDataObject::FIELD_ATTRIBUTE_TYPE()) &&
+    (name ? info->Has(vtkDataObject::FIELD_NAME()) &&
+         std::string(info->Get(vtkDataObject::FIELD_NAME())) == name
+          : !info->Has(vtkDataObject::FIELD_NAME()));
+  if (!same)
+  {
+    this->Superclass::SetInputArrayToProcess(idx, port, connection, fieldAssociation, name);
+  }
+}
+
+void vtkWalkOnSpheresSolver::ModifiedKeepingSums()
+{
+  this->ChangingOnlyWalks = true;
+  this->Modified();
+  this->ChangingOnlyWalks = false;
+}
+
 void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
 {
   walks = std::max(walks, 2);
@@ -70,9 +104,38 @@ void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
   {
     this->WalksPerPoint = walks;
     // Only the walk count changed: the kept running sums stay valid.
-    this->ChangingOnlyWalks = true;
-    this->Modified();
-    this->ChangingOnlyWalks = false;
+    this->ModifiedKeepingSums();
+  }
+}
+
+// The target decides where each point's walks stop: the kept sums are
+// kept, and the core continues from them when the new target allows it
+// (RunningSumsCache::CanResume; the target it compares is absolute, so a
+// relative target's range is part of the decision).
+void vtkWalkOnSpheresSolver::SetTargetStandardError(double target)
+{
+  target = std::isfinite(target) ? std::max(target, 0.0) : 0.0;
+  if (target != this->TargetStandardError)
+  {
+    this->TargetStandardError = target;
+    this->ModifiedKeepingSums();
+  }
+}
+
+void vtkWalkOnSpheresSolver::SetTargetErrorIsRelative(bool relative)
+{
+  if (relative != this->TargetErrorIsRelative)
+  {
+    this->TargetErrorIsRelative = relative;
+    this->ModifiedKeepingSums();
+  }
+}
+
+void vtkWalkOnSpheresSolver::Resume()
+{
+  if (this->LastSolveAborted)
+  {
+    this->ModifiedKeepingSums();
   }
 }
 
@@ -128,9 +191,7 @@ void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
   {
     this->TimeBudgetSeconds = seconds;
     // The budget only decides how far the walks go: kept sums stay valid.
-    this->ChangingOnlyWalks = true;
-    this->Modified();
-    this->ChangingOnlyWalks = false;
+    this->ModifiedKeepingSums();
   }
 }
 
@@ -405,6 +466,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   this->LastPointsShortOfTarget = 0;
   this->LastUnreliableErrorBars = 0;
   this->LastWalksPerPointReached = 0;
+  this->LastSolveAborted = false;
 
   // The inputs as this rank received them: what kept running sums are keyed on.
   vtkDataObject* const boundaryPiece = this->BoundaryOf(
@@ -513,6 +575,7 @@ int vtkWalkOnSpheresSolver::RequestData(
     this->LastResumedWalksPerPoint = summary.ResumedWalksPerPoint;
     this->LastPointsShortOfTarget = static_cast<vtkIdType>(summary.PointsShortOfTarget);
     this->LastUnreliableErrorBars = static_cast<vtkIdType>(summary.UnreliableErrorBars);
+    this->LastSolveAborted = ok && !summary.Completed;
   }
   if (!ok)
   {
@@ -575,6 +638,7 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastUnreliableErrorBars: " << this->LastUnreliableErrorBars << "\n";
   os << indent << "TimeBudgetSeconds: " << this->TimeBudgetSeconds << "\n";
   os << indent << "LastWalksPerPointReached: " << this->LastWalksPerPointReached << "\n";
+  os << indent << "LastSolveAborted: " << (this->LastSolveAborted ? "On" : "Off") << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
   os << indent << "LastDimension: " << this->LastDimension << "\n";
 }

@@ -510,10 +510,15 @@ public:
    * larger WalksPerPoint (Refine) keeps the points that reached the target
    * and continues the others, with the result of one solve at that maximum;
    * GetLastPointsShortOfTarget() says how many points are still above it.
+   * Changing the target keeps the kept sums where they serve: a tighter
+   * target continues from them (points that stopped at the looser one are
+   * checked again), and so does a fixed count (target 0) after a target;
+   * both give the result of one solve with the new settings. A looser
+   * target solves afresh (a solve with it stops points earlier).
    */
-  vtkSetClampMacro(TargetStandardError, double, 0.0, VTK_DOUBLE_MAX);
+  virtual void SetTargetStandardError(double target);
   vtkGetMacro(TargetStandardError, double);
-  vtkSetMacro(TargetErrorIsRelative, bool);
+  virtual void SetTargetErrorIsRelative(bool relative);
   vtkGetMacro(TargetErrorIsRelative, bool);
   vtkBooleanMacro(TargetErrorIsRelative, bool);
   ///@}
@@ -549,6 +554,25 @@ public:
    * ParaView's "Refine" button.
    */
   void Refine();
+
+  /**
+   * After an aborted solve (GetLastSolveAborted()): marks the filter
+   * modified without touching its settings, so that the next update
+   * continues from the walks the aborted one ran (and those kept before
+   * it), with the result of one uninterrupted solve. Does nothing otherwise.
+   * ParaView calls it when Apply is pressed after an Abort.
+   */
+  void Resume();
+
+  /**
+   * Whether the last execution was aborted (SetAbortExecute, ParaView's
+   * Abort button). Its output then holds, at each point, the estimate of
+   * the walks the point holds (array WalkCount; NaN values and zero
+   * derivatives where there are none), and the running sums are kept for
+   * Resume(). VTK 9.2 leaves AbortExecute set after an abort: clear it
+   * (SetAbortExecute(0)) before the next update, as ParaView's plugin does.
+   */
+  vtkGetMacro(LastSolveAborted, bool);
 
   ///@{
   /**
@@ -652,6 +676,23 @@ public:
   void Modified() override;
 
   /**
+   * Sets the abort flag without marking the solver modified: an aborted
+   * solve's output and the walks it ran stay as they are (no re-execution
+   * at the next update, and Resume() continues from them).
+   */
+  void SetAbortExecute(vtkTypeBool abort) override;
+
+  ///@{
+  /**
+   * Selecting the array already selected changes nothing (ParaView's Apply
+   * sends every selection again): the kept running sums stay valid.
+   */
+  using Superclass::SetInputArrayToProcess;
+  void SetInputArrayToProcess(
+    int idx, int port, int connection, int fieldAssociation, const char* name) override;
+  ///@}
+
+  /**
    * Includes the implicit boundary's MTime: editing it re-executes the solver.
    */
   vtkMTimeType GetMTime() override;
@@ -726,6 +767,7 @@ protected:
   vtkIdType LastPointsShortOfTarget = 0;
   vtkIdType LastUnreliableErrorBars = 0;
   int LastWalksPerPointReached = 0;
+  bool LastSolveAborted = false;
   double TimeBudgetSeconds = 0.0;
   bool LastBoundaryBuilt = false;
 
@@ -736,9 +778,12 @@ private:
   // The running sums kept for progressive refinement, with what they were
   // computed from.
   std::unique_ptr<vtkWalkOnSpheresSolverCache> Cache;
-  // Modified by every change except one of WalksPerPoint alone.
+  // Modified by every change except one of WalksPerPoint alone (or of the
+  // time budget or the target, which decide how far the walks go).
   vtkTimeStamp SettingsTime;
   bool ChangingOnlyWalks = false;
+  // Marks the filter modified, keeping the running sums.
+  void ModifiedKeepingSums();
 
   // Builds the problem from the inputs and keeps its boundary.
   std::unique_ptr<gridfree::ProblemBuilder> Builder;

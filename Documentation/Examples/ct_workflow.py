@@ -28,8 +28,15 @@ Three ways to run it:
 In the GUI the pipeline appears in the Pipeline Browser with the Slice
 selected: drag its plane in the view (or type an origin and normal), press
 Apply, and the solver, the streamlines and the glyphs follow the new slice.
-The data folder is found next to this file (../../Data) or in the
-GRIDFREE_DATA environment variable (`./gridfree paraview` sets it).
+The data folder is found in the GRIDFREE_DATA environment variable
+(`./gridfree paraview` sets it, `./gridfree env` prints it), next to this
+file (../../Data), or above a folder of PV_PLUGIN_PATH (a build in the
+source tree); otherwise the script stops with a message saying so.
+
+Each filter is created after its inputs have been updated: ParaView's panel
+builds its array lists when a filter is created, and an array chosen by a
+script that was not in the list then shows blank, and the first Apply would
+clear it (the solver's Boundary Values, the Stream Tracer's Vectors).
 """
 import argparse
 import os
@@ -48,12 +55,35 @@ HEATING = 2e-5
 SKIN_ISO_VALUE = 500.0
 
 
+VOLUME_NAME = "headsq_headCT.mhd"
+
+
 def data_folder():
+    """The folder holding the CT volume. Under `paraview --script` or as a
+    macro there is no __file__: the plugin's folder leads to a build in the
+    source tree."""
+    candidates = []
     if os.environ.get("GRIDFREE_DATA"):
-        return os.environ["GRIDFREE_DATA"]
+        candidates.append(os.environ["GRIDFREE_DATA"])
     if "__file__" in globals():
-        return os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
-    sys.exit("Cannot find the Data folder: set GRIDFREE_DATA to it.")
+        candidates.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                       "Data"))
+    for plugin_folder in os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep):
+        folder = os.path.abspath(plugin_folder) if plugin_folder else ""
+        for _ in range(6):
+            if not folder or folder == os.path.dirname(folder):
+                break
+            folder = os.path.dirname(folder)
+            candidates.append(os.path.join(folder, "Data"))
+    for candidate in candidates:
+        if os.path.isfile(os.path.join(candidate, VOLUME_NAME)):
+            return candidate
+    # An exception, not sys.exit: the GUI shows its message in the Output
+    # Messages window and stays open, where sys.exit would end ParaView
+    # silently.
+    raise RuntimeError("Cannot find the CT volume %s: set GRIDFREE_DATA to the project's Data "
+                       "folder (`./gridfree env` prints it) and run the script again."
+                       % VOLUME_NAME)
 
 
 def parse_arguments(argv):
@@ -103,6 +133,9 @@ def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
     p["heat"] = pvs.Calculator(Input=p["padded"], ResultArrayName="f",
                                Function="-%g*%s" % (HEATING, array))
     pvs.RenameSource("Heat source", p["heat"])
+    # The solver's array lists (T, f) are built when it is created.
+    p["boundary"].UpdatePipeline()
+    p["heat"].UpdatePipeline()
 
     # The probe: a Slice of the volume, so its points carry the CT values too.
     p["slice"] = pvs.Slice(Input=p["padded"])
@@ -110,6 +143,7 @@ def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
     p["slice"].SliceType.Origin = [0.5 * (x0 + x1), 0.5 * (y0 + y1), slice_z]
     p["slice"].SliceType.Normal = [0.0, 0.0, 1.0]
     pvs.RenameSource("Slice (the probe)", p["slice"])
+    p["slice"].UpdatePipeline()
 
     solver = pvs.WalkOnSpheresSolver(Boundary=p["boundary"], Probe=p["slice"], Source=p["heat"])
     solver.BoundaryValues = ["POINTS", "T"]
@@ -120,12 +154,15 @@ def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
     solver.Seed = seed
     p["solver"] = solver
     pvs.RenameSource("Walk On Spheres Solver", solver)
+    # The Threshold's and the tracer's array lists (MetaImage, T_Gradient).
+    solver.UpdatePipeline()
 
     # Inside the head: slice points whose CT value is tissue.
     p["inside"] = pvs.Threshold(Input=solver, Scalars=["POINTS", array],
                                 LowerThreshold=SKIN_ISO_VALUE, UpperThreshold=1e9,
                                 AllScalars=1)
     pvs.RenameSource("Inside the head", p["inside"])
+    p["inside"].UpdatePipeline()
     # Lines of steepest ascent and descent of T within the slice (surface
     # streamlines, both directions) from every 30th point inside.
     p["seeds"] = pvs.MaskPoints(Input=p["inside"], OnRatio=30, MaximumNumberofPoints=100000,
@@ -205,7 +242,7 @@ def summary(solver):
 
 def run_headless(args):
     os.makedirs(args.output, exist_ok=True)
-    volume = args.volume or os.path.join(data_folder(), "headsq_headCT.mhd")
+    volume = args.volume or os.path.join(data_folder(), VOLUME_NAME)
     p = build_pipeline(volume, args.walks, args.slice_z, args.seed)
     p["solver"].UpdatePipeline()
     s = summary(p["solver"])
@@ -250,7 +287,7 @@ def run_headless(args):
 
 
 def run_in_gui():
-    p = build_pipeline(os.path.join(data_folder(), "headsq_headCT.mhd"))
+    p = build_pipeline(os.path.join(data_folder(), VOLUME_NAME))
     view = pvs.GetActiveViewOrCreate("RenderView")
     show(p, view)
     # The Slice selected: its plane widget shows in the view, ready to drag.

@@ -124,7 +124,6 @@ void pqGridFreeRefineUntilTargetWidget::RunRounds()
   this->Running = true;
   this->StopRequested = false;
   this->Button->setText(tr("Stop Refining"));
-  auto algorithm = vtkAlgorithm::SafeDownCast(proxy->GetClientSideObject());
   long long shortOfTarget = InformationValue(proxy, "PointsShortOfTarget");
   long long walks = InformationValue(proxy, "WalksPerPointInUse");
   bool aborted = false;
@@ -152,7 +151,8 @@ void pqGridFreeRefineUntilTargetWidget::RunRounds()
     {
       return;
     }
-    aborted = algorithm && algorithm->GetAbortExecute() != 0;
+    // (The flag itself is cleared once the aborted update has ended.)
+    aborted = InformationValue(proxy, "LastSolveAborted") > 0;
     if (aborted)
     {
       break;
@@ -163,6 +163,18 @@ void pqGridFreeRefineUntilTargetWidget::RunRounds()
   this->Running = false;
   this->Button->setText(this->Label);
   this->Button->setEnabled(true);
+  if (!aborted && shortOfTarget == 0)
+  {
+    std::ostringstream msg;
+    msg << (proxy->GetXMLLabel() ? proxy->GetXMLLabel() : "Walk On Spheres Solver")
+        << ": Refine Until Target is done: every point is at the target standard error "
+        << vtkSMPropertyHelper(proxy, "TargetStandardError", /*quiet=*/true).GetAsDouble()
+        << (vtkSMPropertyHelper(proxy, "TargetErrorIsRelative", /*quiet=*/true).GetAsInt()
+               ? " (relative)"
+               : "")
+        << ", with at most " << walks << " walks per point (array WalkCount).";
+    vtkOutputWindowDisplayText(msg.str().c_str());
+  }
   if (!aborted && !this->StopRequested && shortOfTarget > 0)
   {
     std::ostringstream msg;

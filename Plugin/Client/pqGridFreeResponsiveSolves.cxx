@@ -4,6 +4,7 @@
 #include "pqCoreUtilities.h"
 #include "pqPipelineSource.h"
 #include "pqProgressManager.h"
+#include "pqPropertiesPanel.h"
 #include "pqProxy.h"
 #include "pqServerManagerModel.h"
 
@@ -14,6 +15,7 @@
 #include "vtkSMInputProperty.h"
 #include "vtkSMIntVectorProperty.h"
 #include "vtkSMPropertyIterator.h"
+#include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
 #include "vtkSMStringVectorProperty.h"
 #include "vtkSmartPointer.h"
@@ -34,6 +36,9 @@ namespace
 // "vtk", which ParaView's progress text drops; "P" for the MPI subclass).
 const char* const kGridFreeClassStems[] = { "WalkOnSpheres", "PWalkOnSpheres",
   "MovingLeastSquaresInterpolator" };
+// Progress texts the filters set themselves (vtkAlgorithm::SetProgressText),
+// which ParaView shows instead of the class name.
+const char* const kGridFreeProgressTexts[] = { "Walk On Spheres", "Moving Least Squares" };
 
 bool IsGridFreeClassName(const QString& name)
 {
@@ -227,7 +232,15 @@ void pqGridFreeResponsiveSolves::onShutdown()
 //-----------------------------------------------------------------------------
 bool pqGridFreeResponsiveSolves::IsGridFreeProgress(const QString& text)
 {
-  return IsGridFreeClassName(text.trimmed());
+  const QString trimmed = text.trimmed();
+  for (const char* gridFree : kGridFreeProgressTexts)
+  {
+    if (trimmed.startsWith(QLatin1String(gridFree)))
+    {
+      return true;
+    }
+  }
+  return IsGridFreeClassName(trimmed);
 }
 
 //-----------------------------------------------------------------------------
@@ -258,17 +271,26 @@ void pqGridFreeResponsiveSolves::onProgress(const QString& text, int)
     this->AbortButton->click();
   }
 
-  // Pending window events only: repaints, the progress bar, the Output
-  // Messages window, and a click on Abort. Other input is discarded by
-  // eventFilter; timers (delayed renders, auto-apply) and server sockets
-  // wait until the filter has finished.
+  this->ProcessPendingEvents(false);
+}
+
+//-----------------------------------------------------------------------------
+// Pending window events only: repaints, the progress bar, the Output
+// Messages window, and (unless `discardAll`) a click on Abort. Other input
+// is discarded by eventFilter; timers (delayed renders, auto-apply) and
+// server sockets wait until the filter has finished.
+void pqGridFreeResponsiveSolves::ProcessPendingEvents(bool discardAll)
+{
+  pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager();
   this->ProcessingEvents = true;
   this->Filtering = true;
+  this->OnlyDiscarding = discardAll;
   qApp->installEventFilter(this);
   const bool wasUnblocked = progress->unblockEvents(true);
   QCoreApplication::processEvents(QEventLoop::X11ExcludeTimers | QEventLoop::ExcludeSocketNotifiers);
   progress->unblockEvents(wasUnblocked);
   qApp->removeEventFilter(this);
+  this->OnlyDiscarding = false;
   this->Filtering = false;
   this->ProcessingEvents = false;
 }
@@ -276,10 +298,90 @@ void pqGridFreeResponsiveSolves::onProgress(const QString& text, int)
 //-----------------------------------------------------------------------------
 void pqGridFreeResponsiveSolves::onProgressEnd()
 {
-  if (this->AbortEnabled)
+  if (!this->AbortEnabled)
   {
-    this->AbortEnabled = false;
-    pqApplicationCore::instance()->getProgressManager()->setEnableAbort(false);
+    return;
+  }
+  this->AbortEnabled = false;
+  pqApplicationCore::instance()->getProgressManager()->setEnableAbort(false);
+  // Clicks and keys made during the solve that have not reached the window
+  // yet (those since the last progress report): discarded, not acted on
+  // now that the solve is over.
+  if (!this->ProcessingEvents)
+  {
+    this->ProcessPendingEvents(true);
+  }
+  if (this->AbortRequested)
+  {
+    this->AbortRequested = false;
+    this->AfterAbort();
+  }
+}
+
+//-----------------------------------------------------------------------------
+// VTK 9.2 leaves AbortExecute set once a filter has been aborted, so every
+// later update of it would stop at once: the flag is cleared when the
+// aborted update has ended. A solver that was aborted keeps what it ran;
+// Apply is lit for it, and Apply continues the solve (Resume).
+void pqGridFreeResponsiveSolves::AfterAbort()
+{
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  if (!model)
+  {
+    return;
+  }
+  for (pqPipelineSource* source : model->findItems<pqPipelineSource*>())
+  {
+    vtkSMProxy* proxy = source->getProxy();
+    auto algorithm = vtkAlgorithm::SafeDownCast(proxy ? proxy->GetClientSideObject() : nullptr);
+    if (!algorithm || !IsGridFreeClassName(QString::fromUtf8(algorithm->GetClassName())))
+    {
+      continue;
+    }
+    // The flag alone: SetAbortExecute would mark the filter modified, and
+    // the next render would run it again.
+    algorithm->AbortExecute = 0;
+    vtkSMProperty* aborted = proxy->GetProperty("LastSolveAborted");
+    if (!aborted || !proxy->GetProperty("Resume"))
+    {
+      continue;
+    }
+    proxy->UpdatePropertyInformation(aborted);
+    if (vtkSMPropertyHelper(aborted).GetAsInt() == 0)
+    {
+      continue;
+    }
+    this->Aborted.insert(source);
+    if (source->modifiedState() == pqProxy::UNMODIFIED)
+    {
+      source->setModifiedState(pqProxy::MODIFIED);
+    }
+  }
+  if (QWidget* main = pqCoreUtilities::mainWidget())
+  {
+    for (pqPropertiesPanel* panel : main->findChildren<pqPropertiesPanel*>())
+    {
+      QObject::connect(panel, QOverload<pqProxy*>::of(&pqPropertiesPanel::applied), this,
+        &pqGridFreeResponsiveSolves::onApplied, Qt::UniqueConnection);
+    }
+  }
+}
+
+//-----------------------------------------------------------------------------
+// Apply after an Abort: the solver's settings may be the same as those of
+// the aborted solve (nothing else marks it modified), so it is told to
+// continue before ParaView updates the pipeline.
+void pqGridFreeResponsiveSolves::onApplied(pqProxy* applied)
+{
+  auto source = qobject_cast<pqPipelineSource*>(applied);
+  if (!source || !this->Aborted.contains(source))
+  {
+    return;
+  }
+  this->Aborted.remove(source);
+  if (vtkSMProxy* proxy = source->getProxy())
+  {
+    proxy->InvokeCommand("Resume");
   }
 }
 
@@ -307,7 +409,8 @@ bool pqGridFreeResponsiveSolves::IsOnAbortButton(QObject* watched, QEvent* event
 //-----------------------------------------------------------------------------
 bool pqGridFreeResponsiveSolves::eventFilter(QObject* watched, QEvent* event)
 {
-  if (this->Filtering && IsUserInput(event->type()) && !this->IsOnAbortButton(watched, event))
+  if (this->Filtering && IsUserInput(event->type()) &&
+    (this->OnlyDiscarding || !this->IsOnAbortButton(watched, event)))
   {
     return true; // discarded: nothing may start while the filter runs
   }
@@ -317,7 +420,7 @@ bool pqGridFreeResponsiveSolves::eventFilter(QObject* watched, QEvent* event)
 //-----------------------------------------------------------------------------
 void pqGridFreeResponsiveSolves::onAbort()
 {
-  AbortGridFreeFilters();
+  this->AbortRequested = AbortGridFreeFilters() || this->AbortRequested;
 }
 
 //-----------------------------------------------------------------------------
@@ -336,7 +439,10 @@ bool pqGridFreeResponsiveSolves::AbortGridFreeFilters()
     auto algorithm = vtkAlgorithm::SafeDownCast(proxy ? proxy->GetClientSideObject() : nullptr);
     if (algorithm && IsGridFreeClassName(QString::fromUtf8(algorithm->GetClassName())))
     {
-      algorithm->SetAbortExecute(1);
+      // Not SetAbortExecute, which marks the filter modified: the filters
+      // that do not run now would run again at the next render, and the
+      // solver would forget the walks it ran.
+      algorithm->AbortExecute = 1;
       found = true;
     }
   }

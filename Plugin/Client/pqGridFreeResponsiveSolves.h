@@ -16,7 +16,12 @@
  *    processed either;
  *  - on Abort, sets AbortExecute on the GridFree algorithms of the built-in
  *    server: the running one stops within a progress interval and reports
- *    what it did not finish (VTK clears the flag when a filter next runs).
+ *    what it did not finish. When the aborted update has ended it clears
+ *    the flag again (VTK 9.2 would leave it set, and every later update
+ *    would stop at once), discards the clicks and keys that queued up
+ *    during the solve, and lights Apply for an aborted solver: Apply then
+ *    continues its solve from the walks already run (its Resume command),
+ *    even with no property changed.
  * A widget that carries the dynamic property "gridfreeClickableDuringSolves"
  * (Refine Until Target's button, to stop its rounds) is let through too.
  * With a remote server the Abort button stays as ParaView leaves it: the
@@ -43,9 +48,11 @@
 #include <QElapsedTimer>
 #include <QObject>
 #include <QPointer>
+#include <QSet>
 
 class QToolButton;
 class pqPipelineSource;
+class pqProxy;
 class vtkObject;
 class vtkSMProxy;
 
@@ -79,8 +86,11 @@ private Q_SLOTS:
   void onSourceAdded(pqPipelineSource* source);
   void onPropertyModified(vtkObject* proxy, unsigned long, void* name);
   void onDataUpdated(pqPipelineSource* source);
+  void onApplied(pqProxy* proxy);
 
 private:
+  void ProcessPendingEvents(bool discardAll);
+  void AfterAbort();
   bool IsOnAbortButton(QObject* watched, QEvent* event) const;
   static void ReselectArraysOf(vtkSMProxy* proxy, const QString& input);
 
@@ -90,6 +100,11 @@ private:
   bool ProcessingEvents = false;
   bool AbortEnabled = false;
   bool Filtering = false;
+  bool OnlyDiscarding = false; // no click gets through, Abort's neither
+  bool AbortRequested = false;
+  // Solvers whose next Apply resumes (compared, not followed: the one
+  // applied is alive).
+  QSet<pqPipelineSource*> Aborted;
 
   Q_DISABLE_COPY(pqGridFreeResponsiveSolves)
 };

@@ -242,8 +242,127 @@ TEST(Problem, ProgressCallbackAborts)
   }
   EXPECT_LT(finished, points.size());
   EXPECT_LT(estimates.Summary.WalksRun, points.size() * 100000u);
-  // An aborted batch keeps nothing to resume from.
-  EXPECT_EQ(kept.KeptWalks(), 0u);
+  // An aborted batch keeps what it ran, and hands every point that holds
+  // walks to the sink: here those it started.
+  EXPECT_FALSE(kept.Uniform());
+  EXPECT_TRUE(kept.Interrupted());
+  EXPECT_GT(kept.KeptWalks(), 0u);
+  EXPECT_LT(estimates.Summary.PointsFinished, finished);
+  EXPECT_EQ(estimates.Summary.PointsWithoutWalks, points.size() - finished);
+}
+
+// An aborted batch, continued with the same request, gives the bits of one
+// batch: the points it finished, those it cut short between chunks and
+// those it never reached (fresh, or with the walks of an earlier batch)
+// each continue from their own count. One point (its walks in blocks over
+// the threads) and 20 (points over the threads), values and gradients.
+TEST(Problem, AbortedBatchContinuesToOneBatch)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  for (std::size_t count : { std::size_t(1), std::size_t(20) })
+  {
+    const auto points = AsProbe<3>(RandomPointsInBall<3>(static_cast<int>(count), 0.8, 17));
+    for (bool derivatives : { false, true })
+    {
+      if (count == 1 && derivatives)
+      {
+        continue; // the blocks' history is covered by ResumedBatchEqualsOneBatch
+      }
+      BatchRequest request;
+      request.Threads = 2;
+      request.Derivatives.Gradient = derivatives;
+      RunningSumsCache kept;
+      request.WalksPerPoint = 300; // an earlier, complete batch
+      problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+      // Enough walks that the first progress report (after 0.1 s) comes
+      // before the end; more if this machine was faster.
+      BatchEstimates aborted;
+      int walks = count == 1 ? 60000 : 2500;
+      for (int attempt = 0; attempt < 4; ++attempt, walks *= 4)
+      {
+        request.WalksPerPoint = walks;
+        aborted = problem.EstimateAll(
+          points, request, [](const BatchProgress&) { return false; }, &kept);
+        if (!aborted.Summary.Completed)
+        {
+          break;
+        }
+      }
+      ASSERT_FALSE(aborted.Summary.Completed);
+      // Every point holds walks (at least the earlier batch's 300), so
+      // every point is in the aborted output, none NaN.
+      EXPECT_EQ(aborted.Summary.PointsWithoutWalks, 0u);
+      EXPECT_EQ(aborted.Summary.ResumedWalksPerPoint, 300);
+      std::size_t fewer = 0;
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        EXPECT_EQ(aborted.Finished[i], 1);
+        EXPECT_FALSE(std::isnan(aborted.Value(i)));
+        EXPECT_GE(aborted.Counters[i].Walks, 300u);
+        fewer += aborted.Counters[i].Walks < static_cast<std::uint64_t>(walks) ? 1 : 0;
+      }
+      EXPECT_GT(fewer, 0u);
+      EXPECT_EQ(aborted.Summary.PointsFinished, count - fewer);
+
+      const BatchEstimates continued =
+        problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+      EXPECT_TRUE(continued.Summary.Completed);
+      const BatchEstimates whole = problem.EstimateAll(points, request);
+      ExpectSameBits(whole, continued);
+    }
+  }
+}
+
+// A target changed after a target batch: a tighter one continues from the
+// kept walks (stopped points checked again), a fixed count continues every
+// point to it, and both give the bits of one batch of the new request; a
+// looser target starts afresh.
+TEST(Problem, TargetChangeContinuesWhereItCan)
+{
+  const Problem<3> problem(SphereBoundary(), Laplace(1e-3));
+  const auto points = AsProbe<3>(RandomPointsInBall<3>(30, 0.9, 16));
+  BatchRequest request;
+  request.WalksPerPoint = 256;
+  const BatchEstimates fixed = problem.EstimateAll(points, request);
+  std::vector<double> variances;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    variances.push_back(fixed.ValueVariance(i));
+  }
+  std::sort(variances.begin(), variances.end());
+  const double loose = std::sqrt(variances[20]);
+  const double tight = std::sqrt(variances[8]);
+  request.WalksPerPoint = 1024;
+
+  RunningSumsCache kept;
+  request.TargetStandardError = loose;
+  const BatchEstimates first = problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  request.TargetStandardError = tight;
+  const BatchEstimates tighter =
+    problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  EXPECT_GT(tighter.Summary.ResumedWalksPerPoint, 0);
+  EXPECT_LT(tighter.Summary.WalksRun, problem.EstimateAll(points, request).Summary.WalksRun);
+  ExpectSameBits(problem.EstimateAll(points, request), tighter);
+  int more = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    more += tighter.Counters[i].Walks > first.Counters[i].Walks ? 1 : 0;
+  }
+  EXPECT_GT(more, 0);
+
+  request.TargetStandardError = 0.0;
+  const BatchEstimates toFixed =
+    problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  EXPECT_GT(toFixed.Summary.ResumedWalksPerPoint, 0);
+  ExpectSameBits(problem.EstimateAll(points, request), toFixed);
+
+  request.TargetStandardError = tight;
+  problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  request.TargetStandardError = loose;
+  const BatchEstimates looser =
+    problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  EXPECT_EQ(looser.Summary.ResumedWalksPerPoint, 0);
+  ExpectSameBits(first, looser);
 }
 
 // Walk on stars through the problem: a mixed 3D problem's batch is calibrated, and

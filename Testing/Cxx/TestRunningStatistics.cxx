@@ -137,17 +137,43 @@ TEST(RunningSumsCache, ResumesOnlyWhatItKept)
   EXPECT_FALSE(cache.Stopped(4)); // a fixed count has no target
   EXPECT_GT(cache.MemoryBytes(), 0u);
 
-  // Target-error batches: only the same target resumes, and each point's
-  // stop is kept.
+  // Target-error batches: the same target, a tighter one or a fixed count
+  // resumes (not a looser target), and each point's stop is kept.
   cache.Reset(10, 3, false, 0.5);
   cache.Save(2, stats, counters, 0, true);
   cache.Save(3, stats, counters, 0, false);
-  cache.SetKeptWalks(256);
+  cache.SetKeptWalks(256, false);
   EXPECT_TRUE(cache.CanResume(10, 3, false, 0.5, 512));
-  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.25, 512)); // another target
-  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.0, 512));  // a fixed count
+  EXPECT_TRUE(cache.CanResume(10, 3, false, 0.25, 512)); // a tighter target
+  EXPECT_TRUE(cache.CanResume(10, 3, false, 0.0, 512));  // a fixed count
+  EXPECT_FALSE(cache.CanResume(10, 3, false, 1.0, 512)); // a looser target
+  EXPECT_FALSE(cache.Uniform());
   EXPECT_TRUE(cache.Stopped(2));
   EXPECT_FALSE(cache.Stopped(3));
+  cache.Retarget(0.25);
+  EXPECT_DOUBLE_EQ(cache.KeptTarget(), 0.25);
+  EXPECT_TRUE(cache.Stopped(2)); // checked again by the batch
+  cache.Retarget(0.0);
+  EXPECT_FALSE(cache.Stopped(2)); // a fixed count has no stops
+  EXPECT_FALSE(cache.CanResume(10, 3, false, 0.5, 512)); // kept for a fixed count now
+
+  // After an abort each point holds its own count: the most bounds a
+  // resume, and the fewest is what every point resumed from.
+  cache.Reset(4, 3, false);
+  gridfree::RunningStatistics partial(3);
+  for (int k = 0; k < 5; ++k)
+  {
+    partial.Add(sample);
+  }
+  cache.Save(1, partial, counters, 0);
+  cache.KeepWhatEachPointHolds();
+  EXPECT_TRUE(cache.Interrupted());
+  EXPECT_FALSE(cache.Uniform());
+  EXPECT_EQ(cache.KeptWalks(), 5u);
+  EXPECT_EQ(cache.FewestWalks(), 0u);
+  EXPECT_EQ(cache.Walks(1), 5u);
+  EXPECT_TRUE(cache.CanResume(4, 3, false, 0.0, 5));
+  EXPECT_FALSE(cache.CanResume(4, 3, false, 0.0, 4));
   cache.Clear();
   EXPECT_FALSE(cache.CanResume(10, 3, true, 0.0, 4096));
   EXPECT_EQ(cache.MemoryBytes(), 0u);

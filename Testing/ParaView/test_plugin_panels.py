@@ -75,9 +75,10 @@ for filename in XML_FILES:
 
 check(sorted(seen) == sorted(FILTERS), "filters found: %s" % sorted(seen))
 for name, proxy in seen.items():
-    # (Information-only properties are not shown in the panel.)
+    # (Information-only properties and those with panel_visibility "never"
+    # are not shown in the panel.)
     props = [p for p in proxy if is_property(p) and p.tag != "InputProperty"
-             and p.get("information_only") != "1"]
+             and p.get("information_only") != "1" and p.get("panel_visibility") != "never"]
     by_name = {p.get("name"): p for p in props}
     groups = {}
     member_of = {}

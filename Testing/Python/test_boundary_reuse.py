@@ -184,3 +184,38 @@ def point_arrays_of(data):
     return {pd.GetArrayName(k): [pd.GetArray(k).GetTuple(i)
                                  for i in range(pd.GetArray(k).GetNumberOfTuples())]
             for k in range(pd.GetNumberOfArrays())}
+
+
+def test_inputs_re_executed_with_the_same_values_keep_boundary_and_sums():
+    """ParaView's first Apply after a script re-executes filters whose output
+    does not change: new arrays with the same values. The built boundary and
+    the kept running sums stay (the next walks continue), as with the same
+    arrays; a changed value still starts afresh."""
+    from vtkmodules.vtkFiltersCore import vtkArrayCalculator
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(24)
+    sphere.SetPhiResolution(24)
+    surface = vtkArrayCalculator()
+    surface.SetInputConnection(sphere.GetOutputPort())
+    surface.AddCoordinateScalarVariable("coordsX", 0)
+    surface.SetFunction("coordsX")
+    surface.SetResultArrayName("T")
+    probe = plane(0.0)
+    solver = Solver()
+    solver.SetBoundaryConnection(surface.GetOutputPort())
+    solver.SetProbeConnection(probe.GetOutputPort())
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetWalksPerPoint(32)
+    assert updated(solver)
+    first_points = probe.GetOutput().GetPoints().GetData()
+    sphere.Modified()  # both inputs run again with the same values
+    probe.Modified()
+    solver.SetWalksPerPoint(64)
+    assert not updated(solver)
+    assert probe.GetOutput().GetPoints().GetData() is not first_points  # new arrays
+    assert solver.GetLastResumedWalksPerPoint() == 32
+    surface.SetFunction("coordsX + 1")  # new values
+    solver.SetWalksPerPoint(128)
+    assert updated(solver)
+    assert solver.GetLastResumedWalksPerPoint() == 0

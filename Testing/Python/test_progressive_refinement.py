@@ -137,11 +137,17 @@ def test_fewer_walks_or_any_other_change_start_afresh():
     assert solver.GetLastResumedWalksPerPoint() == 0
 
 
-def test_an_aborted_solve_keeps_nothing():
+def test_an_aborted_solve_keeps_its_walks_and_resumes():
+    """Aborted (at the first progress report) while raising 64 walks to
+    2000: every point shows an estimate (the walks it ran, at least the 64
+    kept), an update without Resume runs nothing, and Resume then continues
+    each point from its own count to one uninterrupted solve's numbers."""
+    import math
     from vtkmodules.vtkCommonCore import vtkCommand
-    solver = solver_for(plane(40), walks=64, ControlVariates=False)
+    probe = plane(10)
+    solver = solver_for(probe, walks=64, ControlVariates=False)
     solver.Update()
-    solver.SetWalksPerPoint(20000)
+    solver.SetWalksPerPoint(2000)
 
     def on_progress(obj, event):
         obj.SetAbortExecute(1)
@@ -149,8 +155,18 @@ def test_an_aborted_solve_keeps_nothing():
     tag = solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
     solver.Update()
     solver.RemoveObserver(tag)
+    assert solver.GetLastSolveAborted()
+    out = solver.GetOutput().GetPointData()
+    counts = [out.GetArray("WalkCount").GetValue(i) for i in range(probe.GetNumberOfPoints())]
+    assert min(counts) >= 64 and min(counts) < 2000, (min(counts), max(counts))
+    assert not any(math.isnan(out.GetArray("T").GetValue(i)) for i in range(len(counts)))
+    # Aborting did not mark the solver modified: nothing runs again.
     solver.SetAbortExecute(0)
-    solver.SetWalksPerPoint(128)
     solver.Update()
-    assert solver.GetLastResumedWalksPerPoint() == 0
-    assert arrays(solver) == one_shot(128, plane(40), ControlVariates=False)
+    assert solver.GetLastSolveAborted()
+    solver.Resume()
+    solver.Update()
+    assert not solver.GetLastSolveAborted()
+    assert solver.GetLastResumedWalksPerPoint() == min(counts)
+    assert solver.GetLastNumberOfWalks() == 2000 * len(counts) - sum(counts)
+    assert arrays(solver) == one_shot(2000, probe, ControlVariates=False)

@@ -236,6 +236,7 @@ def test_progress_is_reported_and_abort_is_prompt():
     assert len(progress) >= 3
     assert elapsed < 3.0, elapsed  # three progress reports + at most one second
     assert "aborted" in catcher.warning_text()
+    # A fresh solve aborted: the points not reached have no walks, NaN.
     values = solver.GetOutput().GetPointData().GetArray("T")
     assert any(math.isnan(values.GetTuple1(i)) for i in range(values.GetNumberOfTuples()))
 

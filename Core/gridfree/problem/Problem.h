@@ -123,6 +123,11 @@ struct BatchSummary
   // (WalkOnStarsEstimator::BackFaceHits), the sign of a wrongly oriented or
   // leaking reflecting surface; 0 otherwise.
   std::uint64_t BackFaceHits = 0;
+  // Points that ran all their walks (every point of a complete batch); an
+  // aborted batch with kept sums hands the others to the sink with the
+  // walks they hold, but for PointsWithoutWalks, which hold none.
+  std::uint64_t PointsFinished = 0;
+  std::uint64_t PointsWithoutWalks = 0;
   double Seconds = 0.0;
 };
 
@@ -299,9 +304,14 @@ public:
   // three coordinates are the start point; all three key its random
   // streams) and hands each finished point to `sink`. With `kept`, the batch
   // continues from the sums it holds when they fit (same points, same
-  // layout, no more walks than asked) and keeps its own at the last block
-  // boundary; the caller clears `kept` when anything but the walk count
-  // changed. Exceptions of the estimators propagate.
+  // layout, no more walks than asked, a target that allows it:
+  // RunningSumsCache::CanResume), each point from its own walk count, and
+  // keeps its own; the caller clears `kept` when anything else changed.
+  // Aborted with `kept`, the batch still hands every point that holds walks
+  // to `sink` (those cut short with the walks they ran, those not reached
+  // with the kept ones) and keeps them all, so that the next batch
+  // continues where this one stopped; points without any walk never reach
+  // `sink`. Exceptions of the estimators propagate.
   BatchSummary Estimate(const std::vector<std::array<double, 3>>& points,
     const BatchRequest& request, const PointSink& sink,
     const BatchProgressCallback& progress = BatchProgressCallback(),
@@ -327,8 +337,20 @@ public:
     {
       kept->Reset(numPoints, sampleSize, derivativeWalks, target, this->SolutionComponents());
     }
+    // A tighter target than the kept sums': their stopped points are checked again.
+    const bool tighterTarget = resumed && target > 0.0 && target < kept->KeptTarget();
+    if (resumed)
+    {
+      kept->Retarget(target);
+    }
+    // Every point holds the same walks unless an abort (or a target) left
+    // them uneven; each point continues from its own count.
+    const bool uniformStart = !resumed || kept->Uniform();
     const int startWalks = resumed ? static_cast<int>(kept->KeptWalks()) : 0;
-    summary.ResumedWalksPerPoint = startWalks;
+    // After an abort, the walks every point resumed from.
+    summary.ResumedWalksPerPoint = !resumed ? 0
+      : kept->Interrupted()                 ? static_cast<int>(kept->FewestWalks())
+                                            : startWalks;
     auto startPoint = [&](std::size_t i, RunningStatistics& stats, WalkCounters& counters,
                         unsigned char& status) {
       stats.Reset();
@@ -348,14 +370,24 @@ public:
       std::min((blockWalks - startWalks % blockWalks) % blockWalks, walks - startWalks);
     const std::size_t blocksPerPoint = static_cast<std::size_t>(leadWalks > 0) +
       static_cast<std::size_t>((walks - startWalks - leadWalks + blockWalks - 1) / blockWalks);
-    const bool walkLevel = target <= 0.0 && threadCount > 1 &&
+    const bool walkLevel = target <= 0.0 && uniformStart && threadCount > 1 &&
       numPoints < 2 * static_cast<std::size_t>(threadCount) &&
       blocksPerPoint > 1 &&
       static_cast<double>(numPoints) * (walks - startWalks) * sampleSize <= 16.0 * 1024 * 1024;
 
     const auto start = std::chrono::steady_clock::now();
-    const double totalWalks =
-      static_cast<double>(numPoints) * static_cast<double>(walks - startWalks);
+    double totalWalks = 0.0;
+    if (uniformStart)
+    {
+      totalWalks = static_cast<double>(numPoints) * static_cast<double>(walks - startWalks);
+    }
+    else
+    {
+      for (std::size_t i = 0; i < numPoints; ++i)
+      {
+        totalWalks += static_cast<double>(walks) - static_cast<double>(kept->Walks(i));
+      }
+    }
     std::atomic<std::uint64_t> walksDone{ 0 };
     auto report = [&](double fraction) {
       if (!progress)
@@ -386,11 +418,14 @@ public:
       summary.UnboundedSource = summary.UnboundedSource || !bounded;
     };
 
+    // Points handed to the sink (an abort leaves some out).
+    std::vector<unsigned char> sunk(kept ? numPoints : 0, 0);
+    std::atomic<std::uint64_t> finished{ 0 };
     if (walkLevel)
     {
       summary.Completed = this->EstimateByBlocks(points, request, sink, kept, startPoint,
         startWalks, leadWalks, blockWalks, blocksPerPoint, sampleSize, walksDone, backFaceHits,
-        report, addTotals);
+        report, addTotals, sunk, finished);
     }
     else
     {
@@ -421,22 +456,30 @@ public:
                   }
                 }
                 bool stopped = resumed && kept->Stopped(i);
+                if (stopped && tighterTarget)
+                {
+                  // Stopped at a looser target: it stays stopped only if
+                  // it meets this one where it stands.
+                  stopped = MeetsTarget(stats, counters, target, valueComponents,
+                    summary.Layout.Weight, !this->ConstantData);
+                }
+                // The point's own count: kept sums differ after an abort.
+                const int from = static_cast<int>(stats.SampleCount());
+                bool ran = true;
                 if (target > 0.0)
                 {
-                  if (!stopped &&
-                    !EstimateToTarget(estimator, points[i].data(), seed,
-                      static_cast<int>(stats.SampleCount()), walks, target, valueComponents,
-                      summary.Layout.Weight, !this->ConstantData, stats, counters, cancel,
-                      walksDone, status, stopped))
-                  {
-                    return false;
-                  }
+                  ran = stopped ||
+                    EstimateToTarget(estimator, points[i].data(), seed, from, walks, target,
+                      valueComponents, summary.Layout.Weight, !this->ConstantData, stats,
+                      counters, cancel, walksDone, status, stopped);
                 }
-                else if (!EstimateInChunks(estimator, points[i].data(), seed, startWalks, walks,
-                           stats, counters, cancel, walksDone, status, resumed))
+                else
                 {
-                  return false;
+                  ran = EstimateInChunks(estimator, points[i].data(), seed, from, walks, stats,
+                    counters, cancel, walksDone, status, from > 0);
                 }
+                // Kept also when cut short: the next batch continues from
+                // the walks it ran (whole chunks, with their history).
                 if (kept)
                 {
                   kept->Save(i, stats, counters, static_cast<unsigned char>(status), stopped);
@@ -445,12 +488,14 @@ public:
                     kept->SaveHistory(i, estimator.BlockHistory());
                   }
                 }
-                return true;
+                return ran;
               };
-              if (!runWalks())
+              const bool ran = runWalks();
+              if (!ran && !(kept && stats.SampleCount() > 0))
               {
-                return; // aborted: the point never reaches the sink
+                return; // aborted before this point's first walk: it never reaches the sink
               }
+              finished.fetch_add(ran ? 1 : 0, std::memory_order_relaxed);
               if (derivativeWalks)
               {
                 counts[static_cast<int>(status)] += 1;
@@ -458,6 +503,14 @@ public:
               sum.Add(counters);
               unreliable += this->ErrorBar(stats, counters, summary.Layout).Reliable ? 0 : 1;
               sink(i, stats, counters, status);
+              if (kept)
+              {
+                sunk[i] = 1;
+              }
+              if (!ran)
+              {
+                return; // aborted: the points after this one are not reached
+              }
             }
           };
           bool bounded = true;
@@ -486,20 +539,57 @@ public:
         },
         report);
     }
+    if (kept && !summary.Completed)
+    {
+      // The points the abort left out, with the walks kept for them.
+      RunningStatistics stats(sampleSize, valueComponents);
+      WalkCounters sum;
+      std::array<std::uint64_t, 3> counts = { 0, 0, 0 };
+      std::uint64_t unreliable = 0;
+      for (std::size_t i = 0; i < numPoints; ++i)
+      {
+        if (sunk[i])
+        {
+          continue;
+        }
+        WalkCounters counters;
+        unsigned char status = 0;
+        startPoint(i, stats, counters, status);
+        if (stats.SampleCount() == 0)
+        {
+          continue;
+        }
+        if (derivativeWalks)
+        {
+          counts[status] += 1;
+        }
+        sum.Add(counters);
+        unreliable += this->ErrorBar(stats, counters, summary.Layout).Reliable ? 0 : 1;
+        sink(i, stats, counters, static_cast<DerivativeStatus>(status));
+        sunk[i] = 1;
+      }
+      addTotals(sum, counts, true, unreliable);
+    }
+    summary.PointsFinished = summary.Completed ? numPoints : finished.load();
+    summary.PointsWithoutWalks = 0;
+    for (std::size_t i = 0; i < sunk.size() && !summary.Completed; ++i)
+    {
+      summary.PointsWithoutWalks += sunk[i] ? 0 : 1;
+    }
     summary.WalksRun = walksDone.load();
     summary.BackFaceHits = backFaceHits.load();
     summary.Seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    // Kept sums are whole only after a complete batch.
     if (kept)
     {
       if (summary.Completed && walks > 0)
       {
-        kept->SetKeptWalks(static_cast<std::uint64_t>(walks));
+        // A target batch's points stop at different counts.
+        kept->SetKeptWalks(static_cast<std::uint64_t>(walks), target <= 0.0);
       }
       else
       {
-        kept->Clear();
+        kept->KeepWhatEachPointHolds();
       }
     }
     return summary;
@@ -650,7 +740,6 @@ private:
     WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
     DerivativeStatus& status, bool& stopped)
   {
-    const double targetVariance = target * target;
     stopped = false;
     int walked = from;
     while (walked < most)
@@ -670,21 +759,30 @@ private:
       {
         break; // the maximum came first: no check here
       }
-      bool reached = true;
-      for (int c = 0; c < valueComponents && reached; ++c)
-      {
-        // NaN (a component that cannot be estimated) never reaches it.
-        reached = stats.VarianceOfMean(c) <= targetVariance;
-      }
-      if (reached &&
-        CheckErrorBar(stats, 0, valueComponents, weightSlot, dataVary && counters.Steps > 0)
-          .Reliable)
+      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary))
       {
         stopped = true;
         break;
       }
     }
     return true;
+  }
+
+  // Whether a point's walks so far reach the target standard error with a
+  // reliable error bar: where EstimateToTarget stops a point.
+  static bool MeetsTarget(const RunningStatistics& stats, const WalkCounters& counters,
+    double target, int valueComponents, int weightSlot, bool dataVary)
+  {
+    const double targetVariance = target * target;
+    bool reached = true;
+    for (int c = 0; c < valueComponents && reached; ++c)
+    {
+      // NaN (a component that cannot be estimated) never reaches it.
+      reached = stats.VarianceOfMean(c) <= targetVariance;
+    }
+    return reached &&
+      CheckErrorBar(stats, 0, valueComponents, weightSlot, dataVary && counters.Steps > 0)
+        .Reliable;
   }
 
   template <class Estimator, class = void>
@@ -710,7 +808,8 @@ private:
     const StartPoint& startPoint, int startWalks, int leadWalks, int blockWalks,
     std::size_t blocksPerPoint, int sampleSize, std::atomic<std::uint64_t>& walksDone,
     std::atomic<std::uint64_t>& backFaceHits, const Report& report,
-    const AddTotals& addTotals) const
+    const AddTotals& addTotals, std::vector<unsigned char>& sunk,
+    std::atomic<std::uint64_t>& finished) const
   {
     const bool derivativeWalks = request.DerivativeWalks();
     const int walks = request.WalksPerPoint;
@@ -720,6 +819,10 @@ private:
     std::vector<WalkCounters> blockCounters(items);
     std::vector<char> blockDone(items, 0);
     std::vector<DerivativeStatus> pointStatus(numPoints, DerivativeStatus::Interior);
+    // Each point's history after its last block, kept only if all its
+    // blocks ran (an abort must not pair it with the older sums).
+    std::vector<RunningStatistics> lastHistory(
+      kept && derivativeWalks ? numPoints : 0, RunningStatistics(sampleSize));
     std::atomic<bool> unbounded{ false };
     const bool completed = ParallelForWithProgress(
       items, request.Threads,
@@ -763,7 +866,7 @@ private:
             {
               if (kept && first + count == walks)
               {
-                kept->SaveHistory(i, estimator.BlockHistory());
+                lastHistory[i] = estimator.BlockHistory();
               }
             }
             blockDone[item] = 1;
@@ -826,6 +929,11 @@ private:
       if (kept)
       {
         kept->Save(i, stats, counters, static_cast<unsigned char>(status));
+        if (derivativeWalks)
+        {
+          kept->SaveHistory(i, lastHistory[i]);
+        }
+        sunk[i] = 1;
       }
       if (derivativeWalks)
       {
@@ -834,6 +942,7 @@ private:
       sum.Add(counters);
       unreliable += this->ErrorBar(stats, counters, layout).Reliable ? 0 : 1;
       sink(i, stats, counters, status);
+      finished.fetch_add(1, std::memory_order_relaxed);
     }
     addTotals(sum, counts, !unbounded.load(), unreliable);
     return completed;

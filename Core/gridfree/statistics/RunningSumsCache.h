@@ -9,6 +9,11 @@
 // walks before them in the same control block (256 walks), so for it the
 // cache keeps that block's running state too ("history"): a solve can then
 // continue from any walk count, inside a block as well.
+//
+// An aborted solve keeps what it ran too: each point holds its own walk
+// count then (those finished, those cut short between chunks, those not
+// reached with what an earlier solve kept), and the next solve continues
+// every point from its own count, with the same result as one solve.
 #ifndef GRIDFREE_STATISTICS_RUNNING_SUMS_CACHE_H
 #define GRIDFREE_STATISTICS_RUNNING_SUMS_CACHE_H
 
@@ -39,6 +44,8 @@ public:
     this->KeepsHistory = history;
     this->Target = target;
     this->Kept = 0;
+    this->AllKept = true;
+    this->WasInterrupted = false;
     this->Sums.Assign(points, components, tailComponents);
     this->History.Assign(history ? points : 0, components, 0);
     this->Counters.assign(points, WalkCounters());
@@ -54,17 +61,72 @@ public:
 
   /// Whether a solve of `points` points with `components` numbers per walk
   /// (and a history or not), target `target` and `walks` walks per point (at
-  /// most, with a target) can continue from the kept sums.
+  /// most, with a target) can continue from the kept sums, with the result
+  /// of one solve of those settings:
+  /// - the same target (or none), no fewer walks than any point holds;
+  /// - a fixed count of walks after a target (points that stopped at the
+  ///   target run on to the count, as its walks are those of a fixed count);
+  /// - a tighter target after a looser one (a point stopped at the looser
+  ///   one is checked again; it could not have stopped earlier at the
+  ///   tighter one). A looser target cannot continue: a solve with it would
+  ///   have stopped some points before the walks they hold.
   bool CanResume(std::size_t points, int components, bool history, double target,
     std::uint64_t walks) const
   {
+    const bool targetFits = target == this->Target || target <= 0.0 ||
+      (this->Target > 0.0 && target < this->Target);
     return this->Kept > 0 && points == this->NumberOfPoints &&
-      components == this->NumberOfComponents && history == this->KeepsHistory &&
-      target == this->Target && walks >= this->Kept;
+      components == this->NumberOfComponents && history == this->KeepsHistory && targetFits &&
+      walks >= this->Kept;
   }
 
-  /// Walks per point the kept sums hold (0: none).
+  /// The target the kept sums were computed for (0: a fixed count).
+  double KeptTarget() const { return this->Target; }
+
+  /// Continues the kept sums under `target` (CanResume said it fits):
+  /// stopped points stay marked as such for a tighter target, which checks
+  /// them again.
+  void Retarget(double target)
+  {
+    if (target == this->Target)
+    {
+      return;
+    }
+    this->Target = target;
+    if (target <= 0.0)
+    {
+      this->StoppedAtTarget.clear();
+    }
+    else if (this->StoppedAtTarget.empty())
+    {
+      this->StoppedAtTarget.assign(this->NumberOfPoints, 0);
+    }
+  }
+
+  /// The most walks any point holds (0: none): a solve continues only with
+  /// at least as many walks per point.
   std::uint64_t KeptWalks() const { return this->Kept; }
+
+  /// Whether every point holds KeptWalks() walks (false after an abort, or
+  /// after a target batch, whose points stop at different counts).
+  bool Uniform() const { return this->AllKept; }
+
+  /// Whether the kept sums are those of an aborted solve.
+  bool Interrupted() const { return this->WasInterrupted; }
+
+  /// The fewest walks any point holds.
+  std::uint64_t FewestWalks() const
+  {
+    std::uint64_t fewest = this->Kept;
+    for (std::size_t count : this->Sums.Counts)
+    {
+      fewest = std::min<std::uint64_t>(fewest, count);
+    }
+    return fewest;
+  }
+
+  /// The walks point i holds.
+  std::uint64_t Walks(std::size_t i) const { return this->Sums.Counts[i]; }
 
   /// Restores point i's kept state (all zero when nothing is kept).
   void Load(std::size_t i, RunningStatistics& stats, WalkCounters& counters,
@@ -106,8 +168,29 @@ public:
   }
 
   /// Marks every point's state as holding `walks` walks (after a complete
-  /// solve; an aborted one must Clear instead).
-  void SetKeptWalks(std::uint64_t walks) { this->Kept = walks; }
+  /// solve of a fixed count; a target solve's points hold at most `walks`).
+  void SetKeptWalks(std::uint64_t walks, bool uniform = true)
+  {
+    this->Kept = walks;
+    this->AllKept = uniform;
+    this->WasInterrupted = false;
+  }
+
+  /// After an aborted solve: every point holds the walks it was saved with
+  /// (or was loaded with), which differ from point to point.
+  void KeepWhatEachPointHolds()
+  {
+    std::uint64_t most = 0;
+    bool uniform = true;
+    for (std::size_t count : this->Sums.Counts)
+    {
+      uniform = uniform && count == this->Sums.Counts[0];
+      most = std::max<std::uint64_t>(most, count);
+    }
+    this->Kept = most;
+    this->AllKept = uniform && this->StoppedAtTarget.empty();
+    this->WasInterrupted = true;
+  }
 
   /// Bytes held.
   std::size_t MemoryBytes() const
@@ -168,6 +251,8 @@ private:
   bool KeepsHistory = false;
   double Target = 0.0;
   std::uint64_t Kept = 0;
+  bool AllKept = true;
+  bool WasInterrupted = false;
   States Sums;
   States History;
   std::vector<WalkCounters> Counters;
