@@ -101,9 +101,11 @@ bool ResolveMixedArrays(vtkObject* self, const ArraySelections& arrays, vtkPolyD
   if (!found[0])
   {
     vtkErrorWithObjectMacro(self, << "Mixed Boundary Conditions is on, but no Boundary Condition "
-                                     "Array is selected: choose a point or cell array of the "
-                                     "Boundary input holding 0 (Dirichlet), 1 (Neumann) or 2 "
-                                     "(Robin) (SetInputArrayToProcess(4, ...)).");
+                                     "Array is chosen: choose the point or cell array of the "
+                                     "Boundary input that holds 0 (Dirichlet), 1 (Neumann) or 2 "
+                                     "(Robin) for each cell (in ParaView's panel under Boundary "
+                                     "Conditions; from Python or C++ it is input array 4), or "
+                                     "turn Mixed Boundary Conditions off.");
     return false;
   }
   if (found[0] == values)

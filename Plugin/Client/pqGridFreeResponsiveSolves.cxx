@@ -17,6 +17,7 @@
 #include "vtkSMPropertyIterator.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
+#include "vtkPVXMLElement.h"
 #include "vtkSMStringVectorProperty.h"
 #include "vtkSmartPointer.h"
 
@@ -24,6 +25,7 @@
 #include <QEvent>
 #include <QEventLoop>
 #include <QMouseEvent>
+#include <QStringList>
 #include <QTimer>
 #include <QToolButton>
 #include <QWidget>
@@ -51,6 +53,32 @@ bool IsGridFreeClassName(const QString& name)
     }
   }
   return false;
+}
+
+// The first array the domain offers whose name (any case) is one of those
+// the property's hint GridFreeSuggestedArrays lists, or "".
+std::string SuggestedArray(vtkSMProperty* property, vtkSMArrayListDomain* arrays)
+{
+  vtkPVXMLElement* hints = property->GetHints();
+  vtkPVXMLElement* suggestion =
+    hints ? hints->FindNestedElementByName("GridFreeSuggestedArrays") : nullptr;
+  const char* names = suggestion ? suggestion->GetAttribute("names") : nullptr;
+  if (!names)
+  {
+    return std::string();
+  }
+  const QStringList wanted = QString::fromUtf8(names).split(' ', Qt::SkipEmptyParts);
+  for (const QString& name : wanted)
+  {
+    for (unsigned int k = 0; k < arrays->GetNumberOfStrings(); ++k)
+    {
+      if (QString::fromUtf8(arrays->GetString(k)).compare(name, Qt::CaseInsensitive) == 0)
+      {
+        return arrays->GetString(k);
+      }
+    }
+  }
+  return std::string();
 }
 
 // User input that could start another pipeline update or close the window.
@@ -130,6 +158,14 @@ void pqGridFreeResponsiveSolves::onSourceAdded(pqPipelineSource* source)
       SLOT(onPropertyModified(vtkObject*, unsigned long, void*)));
     QObject::connect(source, QOverload<pqPipelineSource*>::of(&pqPipelineSource::dataUpdated),
       this, &pqGridFreeResponsiveSolves::onDataUpdated);
+    // A filter created with its Boundary connected: suggested arrays
+    // (Boundary Condition Array) are chosen as after Change Input.
+    if (proxy->GetProperty("Boundary"))
+    {
+      vtkSmartPointer<vtkSMProxy> keep = proxy;
+      QTimer::singleShot(
+        0, this, [keep]() { ReselectArraysOf(keep, "Boundary", /*onlySuggested=*/true); });
+    }
   }
 }
 
@@ -180,7 +216,8 @@ void pqGridFreeResponsiveSolves::onPropertyModified(
 }
 
 //-----------------------------------------------------------------------------
-void pqGridFreeResponsiveSolves::ReselectArraysOf(vtkSMProxy* proxy, const QString& input)
+void pqGridFreeResponsiveSolves::ReselectArraysOf(
+  vtkSMProxy* proxy, const QString& input, bool onlySuggested)
 {
   vtkSmartPointer<vtkSMPropertyIterator> it;
   it.TakeReference(proxy->NewPropertyIterator());
@@ -212,7 +249,19 @@ void pqGridFreeResponsiveSolves::ReselectArraysOf(vtkSMProxy* proxy, const QStri
       {
         offered = current && std::string(current) == arrays->GetString(k);
       }
-      if (!offered)
+      // None, or an array the new input does not have: one of the names
+      // the property suggests (XML hint GridFreeSuggestedArrays), if
+      // offered, else the domain's default.
+      const bool none = !current || std::string(current).empty() ||
+        (arrays->GetNoneString() && std::string(current) == arrays->GetNoneString());
+      const std::string suggested = SuggestedArray(selection, arrays);
+      if (!suggested.empty() && (onlySuggested || !offered || none))
+      {
+        // On creation the selection is the domain's default (the active
+        // scalars, say), not a choice: a suggested name wins.
+        selection->SetElement(4, suggested.c_str());
+      }
+      else if (!offered && !onlySuggested)
       {
         selection->ResetToDomainDefaults();
       }

@@ -31,7 +31,11 @@
  * connects a Source (or another Boundary) to a GridFree filter, each array
  * selection of that input that names no array of it (Source Array still
  * holding its XML default) takes the input's first suitable array, as it
- * would have had the input been connected when the filter was created.
+ * would have had the input been connected when the filter was created. A
+ * selection whose XML hint GridFreeSuggestedArrays lists names (Boundary
+ * Condition Array: bc, Condition, ...) takes an array of one of those
+ * names when the filter is created, and while it is None after Change
+ * Input, so that a boundary that carries its conditions needs no pick.
  *
  * And it keeps the panel's Walks Per Point true after Refine, which doubles
  * the walks on the solver itself: once the solver has updated, the property
@@ -92,7 +96,11 @@ private:
   void ProcessPendingEvents(bool discardAll);
   void AfterAbort();
   bool IsOnAbortButton(QObject* watched, QEvent* event) const;
-  static void ReselectArraysOf(vtkSMProxy* proxy, const QString& input);
+  // After `input` changed: each array selection of it that names no array
+  // of it (or None, where the XML suggests names) is chosen again; with
+  // `onlySuggested` (a new filter), only selections with a suggested name
+  // offered, which takes their place.
+  static void ReselectArraysOf(vtkSMProxy* proxy, const QString& input, bool onlySuggested = false);
 
   QPointer<QToolButton> AbortButton;
   QElapsedTimer Running;

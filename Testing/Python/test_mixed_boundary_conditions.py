@@ -257,7 +257,7 @@ def test_messages_of_what_cannot_work():
 
     def no_condition_array(solver, mesh):
         solver.SetInputArrayToProcess(4, 0, 0, CELLS, "")
-    assert "no Boundary Condition Array is selected" in failing_solve(no_condition_array)
+    assert "no Boundary Condition Array is chosen" in failing_solve(no_condition_array)
 
     def gradient(solver, mesh):
         solver.SetComputeGradient(True)
