@@ -120,3 +120,28 @@ def test_bad_input_is_reported():
     tracer.Update()
     assert "no point or cell array named 'Missing'" in catcher.error_text()
     assert tracer.GetOutput().GetNumberOfPoints() == 0
+
+
+def test_nan_input_never_crashes():
+    """NaN seeds are left out with a warning, and boundary values with NaN
+    in them are refused with an error: the tracer neither crashes nor
+    traces NaN lines."""
+    nan = float("nan")
+    tracer = tracer_for(seeds=[(nan, 0.2, 0.0), (0.1, 0.5, 0.0), (0.0, nan, nan)],
+                        WalksPerPoint=64, MaximumNumberOfSteps=5)
+    catcher = MessageCatcher(tracer, tracer.GetExecutive())
+    tracer.Update()
+    out = tracer.GetOutput()
+    for i in range(out.GetNumberOfPoints()):
+        assert all(math.isfinite(c) for c in out.GetPoint(i)), out.GetPoint(i)
+    assert out.GetNumberOfPoints() > 0  # the finite seed's line
+    boundary = sphere_boundary(resolution=16)
+    boundary.GetPointData().GetArray("T").SetValue(0, nan)
+    tracer = tracer_for(WalksPerPoint=16, MaximumNumberOfSteps=3)
+    catcher = MessageCatcher(tracer, tracer.GetExecutive())
+    tracer.SetBoundaryData(boundary)
+    tracer.Update()
+    assert catcher.error_text() or catcher.warning_text()
+    out = tracer.GetOutput()
+    for i in range(out.GetNumberOfPoints()):
+        assert all(math.isfinite(c) for c in out.GetPoint(i)), out.GetPoint(i)
