@@ -17,7 +17,7 @@
 
 #include <QCoreApplication>
 #include <QEventLoop>
-#include <QHBoxLayout>
+#include <QVBoxLayout>
 #include <QPointer>
 #include <QPushButton>
 
@@ -69,10 +69,11 @@ pqGridFreeRefineUntilTargetWidget::pqGridFreeRefineUntilTargetWidget(
   this->Button->setProperty("gridfreeClickableDuringSolves", true);
   QObject::connect(this->Button, &QPushButton::clicked, this,
     &pqGridFreeRefineUntilTargetWidget::onClicked);
-  auto layout = new QHBoxLayout(this);
+  // The full width of the panel, as ParaView's command buttons (Refine).
+  auto layout = new QVBoxLayout(this);
   layout->setMargin(0);
+  layout->setSpacing(0);
   layout->addWidget(this->Button);
-  layout->addStretch();
   this->setShowLabel(false);
 }
 
