@@ -173,7 +173,7 @@ void pqGridFreeRefineUntilTargetWidget::RunRounds()
         << (vtkSMPropertyHelper(proxy, "TargetErrorIsRelative", /*quiet=*/true).GetAsInt()
                ? " (relative)"
                : "")
-        << ", with at most " << walks << " walks per point (array WalkCount).";
+        << ", with at most " << walks << " walks per point (array WalkCount).\n";
     vtkOutputWindowDisplayText(msg.str().c_str());
   }
   if (!aborted && !this->StopRequested && shortOfTarget > 0)

@@ -3,6 +3,7 @@
 #include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
 #include "pqPipelineSource.h"
+#include "pqOutputWidget.h"
 #include "pqProgressManager.h"
 #include "pqPropertiesPanel.h"
 #include "pqProxy.h"
@@ -27,9 +28,11 @@
 #include <QMouseEvent>
 #include <QStringList>
 #include <QTimer>
+#include <QTreeView>
 #include <QToolButton>
 #include <QWidget>
 
+#include <iostream>
 #include <string>
 
 namespace
@@ -79,6 +82,26 @@ std::string SuggestedArray(vtkSMProperty* property, vtkSMArrayListDomain* arrays
     }
   }
   return std::string();
+}
+
+// For GUI tests, at the test's Abort click: prints how many messages the
+// Output Messages window holds and whether one is a GridFree projection of
+// a long solve, which must be there while the solve still runs.
+void ReportOutputMessagesForTest()
+{
+  QWidget* main = pqCoreUtilities::mainWidget();
+  auto* output = main ? main->findChild<pqOutputWidget*>() : nullptr;
+  auto* tree = output ? output->findChild<QTreeView*>("treeView") : nullptr;
+  QAbstractItemModel* model = tree ? tree->model() : nullptr;
+  int rows = model ? model->rowCount() : -1;
+  bool projection = false;
+  for (int r = 0; r < rows && !projection; ++r)
+  {
+    projection = model->index(r, 0).data().toString().contains("This solve will take about");
+  }
+  std::cout << "gridfree test: at the Abort click Output Messages held " << rows
+            << " messages, the solve's projection " << (projection ? "among them" : "not among them")
+            << std::endl;
 }
 
 // User input that could start another pipeline update or close the window.
@@ -317,6 +340,7 @@ void pqGridFreeResponsiveSolves::onProgress(const QString& text, int)
     this->Running.elapsed() >= 1000.0 * this->TestAbortAfterSeconds)
   {
     this->TestAbortAfterSeconds = -1.0; // once
+    ReportOutputMessagesForTest();
     this->AbortButton->click();
   }
 

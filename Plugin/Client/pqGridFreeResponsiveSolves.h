@@ -44,7 +44,8 @@
  * For GUI tests (event playback cannot click while a filter runs: the
  * playback waits for the click that started it), the environment variable
  * GRIDFREE_TEST_ABORT_AFTER_SECONDS makes it click Abort itself once a
- * GridFree filter has run that long.
+ * GridFree filter has run that long, printing first what the Output
+ * Messages window holds at that moment.
  */
 #ifndef pqGridFreeResponsiveSolves_h
 #define pqGridFreeResponsiveSolves_h
