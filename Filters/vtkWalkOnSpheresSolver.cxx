@@ -543,7 +543,8 @@ int vtkWalkOnSpheresSolver::RequestData(
     gridfree::PointEstimateSummary summary;
     try
     {
-      // False when aborted: the points not reached are NaN, and said so.
+      // False when aborted: each point shows the walks it holds (NaN where
+      // it holds none), and the warning says so.
       if (budgeted)
       {
         gridfree::TimeBudgetSummary rounds;

@@ -4,7 +4,8 @@ projected to take about a quarter of an hour, whose progress bar's Abort
 button the plugin's GUI component clicks after 3 s, exactly as a user would.
 The solve must stop within a second of the click (3 s of slack in all for
 the set-up before it), and its output must be
-clearly partial (points not reached are NaN), not stale."""
+clearly partial (a fresh solve: the points it never reached hold no walks
+and are NaN), not stale."""
 import math
 import os
 import time
