@@ -418,8 +418,9 @@ public:
       summary.UnboundedSource = summary.UnboundedSource || !bounded;
     };
 
-    // Points handed to the sink (an abort leaves some out).
-    std::vector<unsigned char> sunk(kept ? numPoints : 0, 0);
+    // Points handed to the sink (an abort leaves some out; counted with or
+    // without kept sums).
+    std::vector<unsigned char> sunk(numPoints, 0);
     std::atomic<std::uint64_t> finished{ 0 };
     if (walkLevel)
     {
@@ -503,10 +504,7 @@ public:
               sum.Add(counters);
               unreliable += this->ErrorBar(stats, counters, summary.Layout).Reliable ? 0 : 1;
               sink(i, stats, counters, status);
-              if (kept)
-              {
-                sunk[i] = 1;
-              }
+              sunk[i] = 1;
               if (!ran)
               {
                 return; // aborted: the points after this one are not reached
@@ -933,8 +931,8 @@ private:
         {
           kept->SaveHistory(i, lastHistory[i]);
         }
-        sunk[i] = 1;
       }
+      sunk[i] = 1;
       if (derivativeWalks)
       {
         counts[static_cast<int>(status)] += 1;
