@@ -6,7 +6,7 @@
 // RMSE against it is printed beside the rate, and the set-up time (the
 // hierarchies, the silhouettes, the sampler) beside that.
 //
-// Domains: an L prism of 2,304 triangles (Testing/Cxx/MixedShapes.h), with
+// Domains: an L prism of 2,304 triangles (Testing/Core/Support/MixedShapes.h), with
 // the bottom and back faces Dirichlet; and the unit icosphere of 20,480
 // triangles, Dirichlet below z = 0.
 //

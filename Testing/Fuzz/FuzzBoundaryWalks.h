@@ -4,7 +4,7 @@
 // Occluded) and a few short walks (Boundary + WalkOnSpheresEstimator).
 //
 // No libFuzzer dependency: the libFuzzer entry point (FuzzBoundaryWalks.cxx)
-// and the GoogleTest replay of past findings (Testing/Cxx/
+// and the GoogleTest replay of past findings (Testing/Core/problem/
 // TestFuzzRegressions.cxx) both call gridfree::fuzz::RunBoundaryWalks.
 // A broken invariant calls Fail(), which prints the reason and aborts, so
 // libFuzzer records the input as a crash.

@@ -6,7 +6,7 @@
 // walk values are heavy-tailed (rare walks far larger than the rest), a
 // point that has not yet seen those walks reports a mean that is too small
 // and a variance that is far too small: |z| reaches tens. Measured on
-// held-out problems (Testing/Cxx/TestErrorBarReliability.cxx), the points
+// held-out problems (Testing/Core/statistics/TestErrorBarReliability.cxx), the points
 // with |z| > 5 are those whose large walks are *not yet seen*; the kurtosis
 // of the walks seen (the variance's own relative standard error, reported
 // as VarianceRelativeError) does not single them out: it is as large at

@@ -4,7 +4,7 @@
 // fix; a failure now aborts (an invariant) or crashes the test. All are
 // contract inputs: finite coordinates, as the VTK filter passes them.
 // The full-size fuzzer outputs are in Testing/Fuzz/regressions/.
-#include "../Fuzz/FuzzBoundaryWalks.h"
+#include "../../Fuzz/FuzzBoundaryWalks.h"
 
 #include <gtest/gtest.h>
 

@@ -5,9 +5,10 @@
 # Walks, a Field of their own) clash with another file's compile on their own.
 function(gridfree_unity_batches target test_dir)
   set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 6)
-  foreach (file IN ITEMS TestBvh TestBvhRays TestConcentratedSources TestCrossField
-      TestCsgFunctionsCachedBounds TestDerivativeWalkOnSpheres TestWalkOnSpheresExterior
-      TestWalkOnSpheresPoisson)
+  foreach (file IN ITEMS geometry/TestBvh geometry/TestBvhRays sources/TestConcentratedSources
+      applications/TestCrossField implicit/TestCsgFunctionsCachedBounds
+      estimators/TestDerivativeWalkOnSpheres estimators/TestWalkOnSpheresExterior
+      estimators/TestWalkOnSpheresPoisson)
     set_source_files_properties("${test_dir}/${file}.cxx" TARGET_DIRECTORY ${target}
       PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
   endforeach ()
