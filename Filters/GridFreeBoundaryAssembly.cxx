@@ -200,11 +200,7 @@ public:
         return false;
       }
     }
-    const gridfree::CsgOperation operation = in.CsgOperation == vtkWalkOnSpheresSolver::CSG_UNION
-      ? gridfree::CsgOperation::Union
-      : (in.CsgOperation == vtkWalkOnSpheresSolver::CSG_INTERSECTION
-            ? gridfree::CsgOperation::Intersection
-            : gridfree::CsgOperation::Difference);
+    const gridfree::CsgOperation operation = *in.CsgOperation;
     gridfree::CsgBoundaryReport report;
     std::string reason;
     const gridfree::BoundingBox<DIM> probeBox = ProbeRegion(in, gridfree::BoundingBox<DIM>());
@@ -242,7 +238,7 @@ public:
         gridfree::MakeExpressionListFactory<DIM>(in.ValueExpressions, PlaneZ(in)),
         static_cast<int>(in.ValueExpressions.size()));
     }
-    if (in.CsgOperation != vtkWalkOnSpheresSolver::CSG_NONE)
+    if (in.CsgOperation)
     {
       return BuildCsg(self, in, valueFunction, geometry);
     }

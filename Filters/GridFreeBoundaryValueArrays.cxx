@@ -4,7 +4,6 @@
 #include "GridFreeBoundaryConversion.h"
 #include "GridFreeProblemInputs.h"
 #include "GridFreeSolveSettings.h"
-#include "vtkWalkOnSpheresSolver.h"
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
@@ -93,7 +92,7 @@ bool gridfree::BoundaryValuesOfMesh(const gridfree::BoundaryValueContext& contex
   {
     return gridfree::BackBoundaryValues(context, mesh, what, name, values, association, combined);
   }
-  if (context.Settings.Equation != vtkWalkOnSpheresSolver::BIHARMONIC)
+  if (context.Settings.Equation != gridfree::Equation::Biharmonic)
   {
     return true;
   }

@@ -1,5 +1,7 @@
 // Asks a built problem (GridFreeProblemBuilder) for its estimates at a list
-// of points and lays them out as VTK arrays, named as the solver's output:
+// of points and lays them out as VTK arrays (GridFreeEstimateArrays.h), with
+// the batch's warnings (GridFreeEstimateWarnings.h), named as the solver's
+// output:
 // `T`, `T_Variance` (and the biharmonic `T_Laplacian`), the walk counters,
 // `BoundaryDistance`, `T_ClosestBoundaryValue` and the derivative arrays,
 // with the run's summary in field data. vtkWalkOnSpheresSolver fills its

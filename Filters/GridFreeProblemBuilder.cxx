@@ -5,7 +5,6 @@
 #include "GridFreeInputFingerprint.h"
 #include "GridFreeProblemInputs.h"
 #include "GridFreeSourceConversion.h"
-#include "vtkWalkOnSpheresSolver.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCompositeDataIterator.h"
@@ -204,8 +203,8 @@ struct ProblemBuilder::Internals
     key.push_back(in.TwoSided ? 1 : 0);
     key.push_back(in.Mixed ? 1 : 0);
     // The values hold g and h.
-    key.push_back(this->Settings.Equation == vtkWalkOnSpheresSolver::BIHARMONIC ? 1 : 0);
-    key.push_back(static_cast<std::uint64_t>(in.CsgOperation));
+    key.push_back(this->Settings.Equation == Equation::Biharmonic ? 1 : 0);
+    key.push_back(static_cast<std::uint64_t>(CodeOf(in.CsgOperation)));
     addDouble(in.CsgBlendRadius);
     addDouble(this->Settings.LipschitzBound);
     if (regionProbe)
@@ -262,8 +261,8 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
     return false;
   }
   const bool implicit = settings.ImplicitBoundary != nullptr;
-  const bool csg = settings.CsgOperation != vtkWalkOnSpheresSolver::CSG_NONE;
-  const bool biharmonicEquation = settings.Equation == vtkWalkOnSpheresSolver::BIHARMONIC;
+  const bool csg = settings.CsgOperation.has_value();
+  const bool biharmonicEquation = settings.Equation == Equation::Biharmonic;
 
   // A composite boundary: its vtkPolyData leaves are the CSG operands, or,
   // without CSG, one polygon soup.
@@ -446,7 +445,7 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
     return false;
   }
 
-  if (settings.Equation == vtkWalkOnSpheresSolver::SCREENED_POISSON &&
+  if (settings.Equation == Equation::ScreenedPoisson &&
     !(settings.ScreeningCoefficient > 0.0))
   {
     vtkErrorWithObjectMacro(self, << "The screened Poisson equation needs ScreeningCoefficient "
@@ -458,8 +457,8 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
 
   // Source terms: the Source input's point array and the expression.
   const bool hasExpression = !settings.SourceExpression.empty();
-  const bool usesSources = settings.Equation == vtkWalkOnSpheresSolver::POISSON ||
-    settings.Equation == vtkWalkOnSpheresSolver::SCREENED_POISSON;
+  const bool usesSources = settings.Equation == Equation::Poisson ||
+    settings.Equation == Equation::ScreenedPoisson;
   if ((source || hasExpression) && !usesSources)
   {
     vtkWarningWithObjectMacro(self, << "The source term (Source input or SourceExpression) is "
@@ -572,10 +571,10 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
                                        "diagonal (EpsilonIsRelative).");
   }
   settings.MaxSteps = s.MaxSteps;
-  settings.Problem = static_cast<Equation>(s.Equation);
+  settings.Problem = s.Equation;
   settings.ScreeningCoefficient = s.ScreeningCoefficient;
-  settings.Sampling = static_cast<SourceSampling>(s.SourceSampling);
-  settings.Biharmonic = static_cast<BiharmonicStrategy>(s.BiharmonicStrategy);
+  settings.Sampling = s.SourceSampling;
+  settings.Biharmonic = s.BiharmonicStrategy;
   settings.NestedWalks = s.NestedWalks;
 
   const bool biharmonic = settings.Problem == Equation::Biharmonic;
@@ -588,7 +587,7 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
     std::string reason;
     if (!ConvertSource<DIM>(in.Source, in.SourceArray, in.Expression, nc,
           ProblemPlaneZ<DIM>(in), *sources, reason,
-          static_cast<SourceOperator>(s.SourceOperator)))
+          s.SourceOperator))
     {
       vtkErrorWithObjectMacro(self, << "Cannot use the source term: " << reason << ".");
       return false;

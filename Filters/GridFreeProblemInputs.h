@@ -6,9 +6,11 @@
 
 #include "GridFreeCsgBoundary.h"
 #include "vtkSmartPointer.h"
-#include "vtkWalkOnSpheresSolver.h"
+
+#include <gridfree/implicit/CsgOperation.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,7 @@ struct ProblemInputs
   // CSG: the blocks as operands (with their values unless expressions give
   // them), combined with Implicit, if set, as the last operand.
   std::vector<gridfree::CsgMeshOperand> CsgOperands;
-  int CsgOperation = vtkWalkOnSpheresSolver::CSG_NONE;
+  std::optional<gridfree::CsgOperation> CsgOperation; // none: one soup
   double CsgBlendRadius = 0.0;
   double LipschitzBound = 1.0; // of an implicit function not known to be a distance
   std::vector<vtkSmartPointer<vtkDataArray>> CsgValues; // keeps the operands' values alive

@@ -4,13 +4,20 @@
 // filters that estimate at points of their own (stream tracer, adaptive
 // sampler, the applications) fill one from theirs, so that every filter
 // builds its problem (GridFreeProblemBuilder) and runs its batches
-// (GridFreePointEstimates) the same way. The integer codes are those of
-// vtkWalkOnSpheresSolver's enumerations.
+// (GridFreePointEstimates) the same way. The choices are the core's typed
+// enumerations; the filters' integer properties (vtkWalkOnSpheresSolver's
+// public enumerations, the plugin's XML) convert to them here, once.
 // Private to the GridFree::Filters module.
 #ifndef GridFreeSolveSettings_h
 #define GridFreeSolveSettings_h
 
+#include <gridfree/estimators/Equation.h>
+#include <gridfree/implicit/CsgOperation.h>
+#include <gridfree/sources/SourceOperator.h>
+#include <gridfree/sources/SourceSampling.h>
+
 #include <array>
+#include <optional>
 #include <string>
 
 class vtkImplicitFunction;
@@ -22,7 +29,9 @@ struct SolveSettings
   // The boundary.
   vtkImplicitFunction* ImplicitBoundary = nullptr; // not owned
   double LipschitzBound = 1.0;
-  int CsgOperation = 0; // CSG_NONE
+  // How the blocks of a composite Boundary (and the implicit boundary)
+  // combine; none: they are one soup.
+  std::optional<gridfree::CsgOperation> CsgOperation;
   double CsgBlendRadius = 0.0;
   std::string BoundaryValueExpression;
   std::string BoundaryLaplacianExpression;
@@ -32,12 +41,12 @@ struct SolveSettings
   bool MixedBoundaryConditions = false;
 
   // The equation and its sources.
-  int Equation = 0; // LAPLACE
+  gridfree::Equation Equation = gridfree::Equation::Laplace;
   double ScreeningCoefficient = 1.0;
   std::string SourceExpression;
-  int SourceSampling = 1; // GREENS_FUNCTION
-  int SourceOperator = 0; // SOURCE_VALUE
-  int BiharmonicStrategy = 0; // TREE_WALKING
+  gridfree::SourceSampling SourceSampling = gridfree::SourceSampling::GreensFunction;
+  gridfree::SourceOperator SourceOperator = gridfree::SourceOperator::Value;
+  gridfree::BiharmonicStrategy BiharmonicStrategy = gridfree::BiharmonicStrategy::TreeWalking;
   int NestedWalks = 1;
 
   // The walks (the sampling settings every filter shares).
@@ -62,6 +71,37 @@ struct SolveSettings
   bool ComputeDirectionalDerivative = false;
   std::array<double, 3> DerivativeDirection = { 1.0, 0.0, 0.0 };
 };
+
+// The integer codes of the filters' properties (vtkWalkOnSpheresSolver's
+// CsgOperationType: 0 none, 1 union, 2 intersection, 3 difference) and the
+// typed choice; codes out of range are the setters' to refuse.
+inline std::optional<CsgOperation> CsgOperationOfCode(int code)
+{
+  switch (code)
+  {
+    case 1:
+      return CsgOperation::Union;
+    case 2:
+      return CsgOperation::Intersection;
+    case 3:
+      return CsgOperation::Difference;
+    default:
+      return std::nullopt;
+  }
+}
+
+inline int CodeOf(const std::optional<CsgOperation>& operation)
+{
+  return operation ? 1 + static_cast<int>(*operation) : 0;
+}
+
+// The codes of the other choices are their enumerators' values, in the
+// order of the filters' enumerations.
+template <typename Choice>
+int CodeOf(Choice choice)
+{
+  return static_cast<int>(choice);
+}
 } // namespace gridfree
 
 #endif

@@ -19,7 +19,6 @@
 #include "vtkPolyData.h"
 #include "GridFreeArraySelection.h"
 #include "GridFreeSolveSettings.h"
-#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <algorithm>
 #include <array>
@@ -250,7 +249,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
   vtkSmartPointer<vtkDataSet> solved;
   if (probe->GetNumberOfPoints() > 0)
   {
-    if (!solve(probe, this->WalksPerPoint, 0.0, search ? 0.3 : 1.0, solved))
+    if (!solve(probe, this->GetWalksPerPoint(), 0.0, search ? 0.3 : 1.0, solved))
     {
       return this->CheckAbort() ? 1 : 0;
     }
@@ -386,7 +385,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
     {
       // Seeds: a Halton sequence over the boundary's box, inside points only.
       const unsigned long long start =
-        1 + static_cast<unsigned long long>(static_cast<unsigned>(this->Seed)) * 7919ULL;
+        1 + static_cast<unsigned long long>(static_cast<unsigned>(this->GetSeed())) * 7919ULL;
       for (unsigned long long k = 0;
            static_cast<int>(seeds.size()) < this->NumberOfSeeds && k < 1000ULL * this->NumberOfSeeds;
            ++k)

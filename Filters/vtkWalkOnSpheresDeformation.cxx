@@ -21,7 +21,6 @@
 #include "vtkUnsignedCharArray.h"
 #include "GridFreeArraySelection.h"
 #include "GridFreeSolveSettings.h"
-#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <cmath>
 #include <cstdint>
@@ -264,7 +263,7 @@ int vtkWalkOnSpheresDeformation::RequestData(
   if (insidePoints->GetNumberOfPoints() > 0)
   {
     gridfree::SolveSettings settings = this->SamplingSettings();
-    settings.Equation = vtkWalkOnSpheresSolver::BIHARMONIC;
+    settings.Equation = gridfree::Equation::Biharmonic;
     gridfree::ArraySelections arrays;
     arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMap);
     arrays.Select(1, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMapLaplacian);

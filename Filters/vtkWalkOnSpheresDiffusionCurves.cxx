@@ -15,7 +15,6 @@
 #include "vtkUnsignedCharArray.h"
 #include "GridFreeArraySelection.h"
 #include "GridFreeSolveSettings.h"
-#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <algorithm>
 #include <cmath>
@@ -248,7 +247,7 @@ int vtkWalkOnSpheresDiffusionCurves::RequestData(
   const bool hasExpression = this->SourceExpression && *this->SourceExpression;
   if (source || hasExpression)
   {
-    settings.Equation = vtkWalkOnSpheresSolver::POISSON;
+    settings.Equation = gridfree::Equation::Poisson;
     if (source)
     {
       if (vtkInformation* info = this->GetInputArrayInformation(2))

@@ -15,7 +15,6 @@
 #include "vtkSmartPointer.h"
 #include "GridFreeArraySelection.h"
 #include "GridFreeSolveSettings.h"
-#include "vtkWalkOnSpheresSolver.h" // for its enumerations
 
 #include <cstdint>
 #include <string>
@@ -156,11 +155,11 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
   zeroBoundary->GetPointData()->AddArray(ZeroPointArray(kVectorPotential, threeD ? 3 : 1, bn));
 
   // One Poisson solve per potential; `operation` makes its source ∇·X or ∇×X.
-  auto solve = [&](const char* potential, int operation, int seed, double begin, double end,
+  auto solve = [&](const char* potential, gridfree::SourceOperator operation, int seed, double begin, double end,
                  vtkSmartPointer<vtkDataSet>& result) {
     gridfree::SolveSettings settings = this->SamplingSettings();
     settings.Seed = seed;
-    settings.Equation = vtkWalkOnSpheresSolver::POISSON;
+    settings.Equation = gridfree::Equation::Poisson;
     settings.SourceOperator = operation;
     settings.ComputeGradient = true;
     settings.ControlVariates = this->ControlVariates;
@@ -176,8 +175,11 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
       settings.SourceExpression = this->FieldExpression;
     }
     bool aborted = false;
+    // Each potential's problem keeps its boundary (they differ in its
+    // values' array) for the next execution.
+    const int problem = operation == gridfree::SourceOperator::Divergence ? 0 : 1;
     if (!this->Solve(settings, arrays, zeroBoundary, fieldArray ? field : nullptr, probe, begin,
-          end, result, aborted))
+          end, result, aborted, problem))
     {
       if (aborted)
       {
@@ -190,10 +192,10 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
   vtkSmartPointer<vtkDataSet> scalarSolve, vectorSolve;
   // Seed + 1 for the second potential, wrapping around: independent walks.
   const int secondSeed =
-    static_cast<int>(static_cast<std::uint32_t>(this->Seed) + std::uint32_t(1));
-  if (!solve(kScalarPotential, vtkWalkOnSpheresSolver::SOURCE_DIVERGENCE, this->Seed, 0.0, 0.5,
+    static_cast<int>(static_cast<std::uint32_t>(this->GetSeed()) + std::uint32_t(1));
+  if (!solve(kScalarPotential, gridfree::SourceOperator::Divergence, this->GetSeed(), 0.0, 0.5,
         scalarSolve) ||
-    !solve(kVectorPotential, vtkWalkOnSpheresSolver::SOURCE_CURL, secondSeed, 0.5, 1.0,
+    !solve(kVectorPotential, gridfree::SourceOperator::Curl, secondSeed, 0.5, 1.0,
       vectorSolve))
   {
     return this->CheckAbort() ? 1 : 0;

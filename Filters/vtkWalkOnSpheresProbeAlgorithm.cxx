@@ -4,6 +4,7 @@
 #include "GridFreeArrays.h"
 #include "GridFreePointEstimates.h"
 #include "GridFreeProblemBuilder.h"
+#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 #include "GridFreeWholeInputRequest.h"
 #include "vtkCellData.h"
@@ -20,13 +21,49 @@
 #include <algorithm>
 #include <array>
 #include <exception>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
+// The filter's settings, and the builders of the subclass's solves, by
+// number: each keeps its boundary between executions.
+struct vtkWalkOnSpheresProbeAlgorithm::Internals
+{
+  gridfree::SolveSettings Settings;
+  std::map<int, std::unique_ptr<gridfree::ProblemBuilder>> Builders;
+  bool LastBoundaryBuilt = false;
+
+  Internals() { this->Settings.WalksPerPoint = 256; }
+};
+
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, WalksPerPoint, int, 2, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, Epsilon, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, EpsilonIsRelative, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, MaxSteps, int, 1, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, Seed, int, VTK_INT_MIN, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, NumberOfThreads, int, 0, VTK_INT_MAX)
+
 vtkWalkOnSpheresProbeAlgorithm::vtkWalkOnSpheresProbeAlgorithm()
+  : Internal(new Internals)
 {
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(1);
+}
+
+bool vtkWalkOnSpheresProbeAlgorithm::GetLastBoundaryBuilt()
+{
+  return this->Internal->LastBoundaryBuilt;
+}
+
+vtkTypeBool vtkWalkOnSpheresProbeAlgorithm::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputs, vtkInformationVector* outputs)
+{
+  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA()))
+  {
+    this->Internal->LastBoundaryBuilt = false;
+  }
+  return this->Superclass::ProcessRequest(request, inputs, outputs);
 }
 
 vtkWalkOnSpheresProbeAlgorithm::~vtkWalkOnSpheresProbeAlgorithm() = default;
@@ -156,23 +193,21 @@ int vtkWalkOnSpheresProbeAlgorithm::RequestUpdateExtent(
 
 gridfree::SolveSettings vtkWalkOnSpheresProbeAlgorithm::SamplingSettings() const
 {
-  gridfree::SolveSettings settings;
-  settings.WalksPerPoint = this->WalksPerPoint;
-  settings.Epsilon = this->Epsilon;
-  settings.EpsilonIsRelative = this->EpsilonIsRelative;
-  settings.MaxSteps = this->MaxSteps;
-  settings.Seed = this->Seed;
-  settings.NumberOfThreads = this->NumberOfThreads;
-  return settings;
+  return this->Internal->Settings;
 }
 
 bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settings,
   const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
   vtkDataSet* probe, double begin, double end, vtkSmartPointer<vtkDataSet>& result,
-  bool& aborted)
+  bool& aborted, int problemNumber)
 {
   aborted = false;
-  gridfree::ProblemBuilder builder;
+  std::unique_ptr<gridfree::ProblemBuilder>& kept = this->Internal->Builders[problemNumber];
+  if (!kept)
+  {
+    kept.reset(new gridfree::ProblemBuilder);
+  }
+  gridfree::ProblemBuilder& builder = *kept;
   gridfree::ProblemData data;
   data.Boundary = boundary;
   data.BoundaryPiece = boundary;
@@ -183,6 +218,7 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   {
     return false;
   }
+  this->Internal->LastBoundaryBuilt |= builder.GetLastBoundaryBuilt();
 
   // The probe with the solution arrays, as vtkWalkOnSpheresSolver's output.
   result.TakeReference(probe->NewInstance());
@@ -234,12 +270,13 @@ void vtkWalkOnSpheresProbeAlgorithm::AddSummary(vtkDataObject* output)
 void vtkWalkOnSpheresProbeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";
-  os << indent << "Epsilon: " << this->Epsilon << "\n";
-  os << indent << "EpsilonIsRelative: " << this->EpsilonIsRelative << "\n";
-  os << indent << "MaxSteps: " << this->MaxSteps << "\n";
-  os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "WalksPerPoint: " << this->Internal->Settings.WalksPerPoint << "\n";
+  os << indent << "Epsilon: " << this->Internal->Settings.Epsilon << "\n";
+  os << indent << "EpsilonIsRelative: " << this->Internal->Settings.EpsilonIsRelative << "\n";
+  os << indent << "MaxSteps: " << this->Internal->Settings.MaxSteps << "\n";
+  os << indent << "Seed: " << this->Internal->Settings.Seed << "\n";
+  os << indent << "NumberOfThreads: " << this->Internal->Settings.NumberOfThreads << "\n";
+  os << indent << "LastBoundaryBuilt: " << this->Internal->LastBoundaryBuilt << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
 }

@@ -12,8 +12,11 @@
  *
  * The sampling settings here (walks, ε, steps, seed, threads) configure the
  * solves the subclass makes: each builds its problem and asks it at the
- * probe's points directly, with no internal pipeline. Progress of the
- * solves is reported as this filter's, and aborting this filter aborts them.
+ * probe's points directly, with no internal pipeline. Each solve of the
+ * subclass keeps its built boundary (hierarchy and values) between
+ * executions, so a moved probe, other walks or another seed never rebuild
+ * it (GetLastBoundaryBuilt tells). Progress of the solves is reported as
+ * this filter's, and aborting this filter aborts them.
  *
  * @sa vtkWalkOnSpheresSolver vtkWalkOnSpheresHelmholtzDecomposition
  */
@@ -24,6 +27,7 @@
 #include "GridFreeFiltersModule.h" // for export macro
 #include "vtkSmartPointer.h"         // for vtkSmartPointer
 
+#include <memory> // for std::unique_ptr
 #include <string>
 
 class vtkAlgorithmOutput;
@@ -55,8 +59,8 @@ public:
   /**
    * Random walks per probe point for each solve (default 256, at least 2).
    */
-  vtkSetClampMacro(WalksPerPoint, int, 2, VTK_INT_MAX);
-  vtkGetMacro(WalksPerPoint, int);
+  void SetWalksPerPoint(int walks);
+  int GetWalksPerPoint();
   ///@}
 
   ///@{
@@ -64,19 +68,20 @@ public:
    * Walks stop within Epsilon of the boundary (default 1e-4), relative to
    * the boundary's bounding-box diagonal unless EpsilonIsRelative is off.
    */
-  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Epsilon, double);
-  vtkSetMacro(EpsilonIsRelative, bool);
-  vtkGetMacro(EpsilonIsRelative, bool);
-  vtkBooleanMacro(EpsilonIsRelative, bool);
+  void SetEpsilon(double epsilon);
+  double GetEpsilon();
+  void SetEpsilonIsRelative(bool relative);
+  bool GetEpsilonIsRelative();
+  void EpsilonIsRelativeOn() { this->SetEpsilonIsRelative(true); }
+  void EpsilonIsRelativeOff() { this->SetEpsilonIsRelative(false); }
   ///@}
 
   ///@{
   /**
    * Steps after which a walk is ended and counted (default 10000).
    */
-  vtkSetClampMacro(MaxSteps, int, 1, VTK_INT_MAX);
-  vtkGetMacro(MaxSteps, int);
+  void SetMaxSteps(int steps);
+  int GetMaxSteps();
   ///@}
 
   ///@{
@@ -84,16 +89,16 @@ public:
    * Seed of the random streams (default 0). Results depend on the seed and
    * the points' coordinates only, never on the thread count.
    */
-  vtkSetMacro(Seed, int);
-  vtkGetMacro(Seed, int);
+  void SetSeed(int seed);
+  int GetSeed();
   ///@}
 
   ///@{
   /**
    * Threads for the walks (default 0: all).
    */
-  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
-  vtkGetMacro(NumberOfThreads, int);
+  void SetNumberOfThreads(int threads);
+  int GetNumberOfThreads();
   ///@}
 
   ///@{
@@ -103,6 +108,14 @@ public:
   vtkGetMacro(LastNumberOfWalks, vtkIdType);
   vtkGetMacro(LastSolveSeconds, double);
   ///@}
+
+  /**
+   * Whether the last execution built a boundary (its hierarchy and values)
+   * for any of its solves; false when every solve reused the boundary kept
+   * from an execution before (the Boundary input and the arrays it is built
+   * from unchanged: a moved probe, other walks or another seed).
+   */
+  bool GetLastBoundaryBuilt();
 
 protected:
   vtkWalkOnSpheresProbeAlgorithm();
@@ -121,9 +134,12 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // The probe is split as output 0 is; every other input is needed whole.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Starts each execution's GetLastBoundaryBuilt afresh.
+  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // A settings struct with this filter's sampling settings (walks, ε,
-  // steps, seed, threads) and the solver's defaults for everything else.
+  // The settings this filter keeps (its sampling settings: walks, ε, steps,
+  // seed, threads; the solver's defaults for everything else), for a solve
+  // to start from.
   gridfree::SolveSettings SamplingSettings() const;
 
   // One solve for the subclass, with no internal pipeline: the problem of
@@ -133,21 +149,17 @@ protected:
   // output. Progress is reported as [begin, end] of this filter's; walks and
   // seconds are added to the Last... counters (the subclass resets them);
   // each distinct warning is reported once. False after an error (reported
-  // as this filter's) or when aborted (`aborted` tells which).
+  // as this filter's) or when aborted (`aborted` tells which). `problem`
+  // names the subclass's solve (0, 1, ... for solves of different boundary
+  // values): each keeps its built boundary for the next execution's solve
+  // of the same number, and reuses it while it is built from the same data.
   bool Solve(const gridfree::SolveSettings& settings, const gridfree::ArraySelections& arrays,
     vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* probe, double begin, double end,
-    vtkSmartPointer<vtkDataSet>& result, bool& aborted);
+    vtkSmartPointer<vtkDataSet>& result, bool& aborted, int problem = 0);
 
   // Adds the Last... counters to `output`'s field data (TotalWalks,
   // SolveSeconds).
   void AddSummary(vtkDataObject* output);
-
-  int WalksPerPoint = 256;
-  double Epsilon = 1e-4;
-  bool EpsilonIsRelative = true;
-  int MaxSteps = 10000;
-  int Seed = 0;
-  int NumberOfThreads = 0;
 
   vtkIdType LastNumberOfWalks = 0;
   double LastSolveSeconds = 0.0;
@@ -155,6 +167,9 @@ protected:
 private:
   vtkWalkOnSpheresProbeAlgorithm(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
   void operator=(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 #endif

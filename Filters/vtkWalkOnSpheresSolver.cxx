@@ -383,25 +383,48 @@ int vtkWalkOnSpheresSolver::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+// The public enumerations are the core's choices, code for code (the
+// settings convert by value).
+static_assert(vtkWalkOnSpheresSolver::LAPLACE == static_cast<int>(gridfree::Equation::Laplace) &&
+  vtkWalkOnSpheresSolver::POISSON == static_cast<int>(gridfree::Equation::Poisson) &&
+  vtkWalkOnSpheresSolver::SCREENED_POISSON ==
+    static_cast<int>(gridfree::Equation::ScreenedPoisson) &&
+  vtkWalkOnSpheresSolver::BIHARMONIC == static_cast<int>(gridfree::Equation::Biharmonic));
+static_assert(vtkWalkOnSpheresSolver::UNIFORM == static_cast<int>(gridfree::SourceSampling::Uniform) &&
+  vtkWalkOnSpheresSolver::GREENS_FUNCTION ==
+    static_cast<int>(gridfree::SourceSampling::GreensFunction) &&
+  vtkWalkOnSpheresSolver::MULTIPLE_IMPORTANCE ==
+    static_cast<int>(gridfree::SourceSampling::MultipleImportance) &&
+  vtkWalkOnSpheresSolver::SOURCE_DENSITY ==
+    static_cast<int>(gridfree::SourceSampling::SourceDensity));
+static_assert(vtkWalkOnSpheresSolver::SOURCE_VALUE == static_cast<int>(gridfree::SourceOperator::Value) &&
+  vtkWalkOnSpheresSolver::SOURCE_DIVERGENCE ==
+    static_cast<int>(gridfree::SourceOperator::Divergence) &&
+  vtkWalkOnSpheresSolver::SOURCE_CURL == static_cast<int>(gridfree::SourceOperator::Curl));
+static_assert(vtkWalkOnSpheresSolver::TREE_WALKING ==
+    static_cast<int>(gridfree::BiharmonicStrategy::TreeWalking) &&
+  vtkWalkOnSpheresSolver::NESTED == static_cast<int>(gridfree::BiharmonicStrategy::Nested));
+
+//------------------------------------------------------------------------------
 // Every setting of the solve, from the properties.
 gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
 {
   gridfree::SolveSettings s;
   s.ImplicitBoundary = this->ImplicitBoundary;
   s.LipschitzBound = this->LipschitzBound;
-  s.CsgOperation = this->CsgOperation;
+  s.CsgOperation = gridfree::CsgOperationOfCode(this->CsgOperation);
   s.CsgBlendRadius = this->CsgBlendRadius;
   s.BoundaryValueExpression = this->BoundaryValueExpression ? this->BoundaryValueExpression : "";
   s.BoundaryLaplacianExpression =
     this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "";
   s.TwoSidedBoundaryValues = this->TwoSidedBoundaryValues;
   s.MixedBoundaryConditions = this->MixedBoundaryConditions;
-  s.Equation = this->Equation;
+  s.Equation = static_cast<gridfree::Equation>(this->Equation);
   s.ScreeningCoefficient = this->ScreeningCoefficient;
   s.SourceExpression = this->SourceExpression ? this->SourceExpression : "";
-  s.SourceSampling = this->SourceSampling;
-  s.SourceOperator = this->SourceOperator;
-  s.BiharmonicStrategy = this->BiharmonicStrategy;
+  s.SourceSampling = static_cast<gridfree::SourceSampling>(this->SourceSampling);
+  s.SourceOperator = static_cast<gridfree::SourceOperator>(this->SourceOperator);
+  s.BiharmonicStrategy = static_cast<gridfree::BiharmonicStrategy>(this->BiharmonicStrategy);
   s.NestedWalks = this->NestedWalks;
   s.WalksPerPoint = this->WalksPerPoint;
   s.TargetStandardError = this->TargetStandardError;

@@ -3,6 +3,7 @@
 #include "GridFreeArraySelection.h"
 #include "GridFreePointEstimates.h"
 #include "GridFreeProblemBuilder.h"
+#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 #include "GridFreeWholeInputRequest.h"
 
@@ -56,39 +57,40 @@ void vtkWalkOnSpheresSolverDriver::SetSourceData(vtkDataObject* data)
   this->SetInputData(SourcePort, data);
 }
 
-// A setting's accessors: Set clamps to [lo, hi] and marks the filter
-// modified when the value changes.
-#define GRIDFREE_DRIVER_SETTING(Name, Type, lo, hi)                                                \
-  void vtkWalkOnSpheresSolverDriver::Set##Name(Type value)                                         \
-  {                                                                                                \
-    value = std::min<Type>(std::max<Type>(value, lo), hi);                                         \
-    if (this->Internal->Settings.Name != value)                                                    \
-    {                                                                                              \
-      this->Internal->Settings.Name = value;                                                       \
-      this->Modified();                                                                            \
-    }                                                                                              \
-  }                                                                                                \
-  Type vtkWalkOnSpheresSolverDriver::Get##Name() { return this->Internal->Settings.Name; }
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ScreeningCoefficient, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, WalksPerPoint, int, 2, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, Epsilon, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, EpsilonIsRelative, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, MaxSteps, int, 1, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, Seed, int, VTK_INT_MIN, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NumberOfThreads, int, 0, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ControlVariates, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AntitheticPairs, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, TwoSidedBoundaryValues, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NestedWalks, int, 1, VTK_INT_MAX)
 
-GRIDFREE_DRIVER_SETTING(Equation, int, 0, 3)
-GRIDFREE_DRIVER_SETTING(ScreeningCoefficient, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_DRIVER_SETTING(WalksPerPoint, int, 2, VTK_INT_MAX)
-GRIDFREE_DRIVER_SETTING(Epsilon, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_DRIVER_SETTING(EpsilonIsRelative, bool, false, true)
-GRIDFREE_DRIVER_SETTING(MaxSteps, int, 1, VTK_INT_MAX)
-GRIDFREE_DRIVER_SETTING(Seed, int, VTK_INT_MIN, VTK_INT_MAX)
-GRIDFREE_DRIVER_SETTING(NumberOfThreads, int, 0, VTK_INT_MAX)
-GRIDFREE_DRIVER_SETTING(ControlVariates, bool, false, true)
-GRIDFREE_DRIVER_SETTING(AntitheticPairs, bool, false, true)
-GRIDFREE_DRIVER_SETTING(LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
-GRIDFREE_DRIVER_SETTING(CsgOperation, int, 0, 3)
-GRIDFREE_DRIVER_SETTING(CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_DRIVER_SETTING(TwoSidedBoundaryValues, bool, false, true)
-GRIDFREE_DRIVER_SETTING(SourceSampling, int, 0, 3)
-GRIDFREE_DRIVER_SETTING(SourceOperator, int, 0, 2)
-GRIDFREE_DRIVER_SETTING(BiharmonicStrategy, int, 0, 1)
-GRIDFREE_DRIVER_SETTING(NestedWalks, int, 1, VTK_INT_MAX)
-#undef GRIDFREE_DRIVER_SETTING
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, Equation, gridfree::Equation, 3)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceSampling, gridfree::SourceSampling, 3)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceOperator, gridfree::SourceOperator, 2)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, BiharmonicStrategy, gridfree::BiharmonicStrategy, 1)
+
+void vtkWalkOnSpheresSolverDriver::SetCsgOperation(int code)
+{
+  const std::optional<gridfree::CsgOperation> value =
+    gridfree::CsgOperationOfCode(std::min(std::max(code, 0), 3));
+  if (this->Internal->Settings.CsgOperation != value)
+  {
+    this->Internal->Settings.CsgOperation = value;
+    this->Modified();
+  }
+}
+
+int vtkWalkOnSpheresSolverDriver::GetCsgOperation()
+{
+  return gridfree::CodeOf(this->Internal->Settings.CsgOperation);
+}
 
 // An expression's setter: null clears it.
 #define GRIDFREE_DRIVER_EXPRESSION(Name)                                                           \
@@ -241,19 +243,19 @@ void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   const gridfree::SolveSettings& s = this->Internal->Settings;
-  os << indent << "Equation: " << s.Equation << "\n";
+  os << indent << "Equation: " << gridfree::CodeOf(s.Equation) << "\n";
   os << indent << "ScreeningCoefficient: " << s.ScreeningCoefficient << "\n";
   os << indent << "SourceExpression: " << s.SourceExpression << "\n";
   os << indent << "ImplicitBoundary: " << s.ImplicitBoundary << "\n";
   os << indent << "BoundaryValueExpression: " << s.BoundaryValueExpression << "\n";
   os << indent << "BoundaryLaplacianExpression: " << s.BoundaryLaplacianExpression << "\n";
   os << indent << "LipschitzBound: " << s.LipschitzBound << "\n";
-  os << indent << "CsgOperation: " << s.CsgOperation << "\n";
+  os << indent << "CsgOperation: " << gridfree::CodeOf(s.CsgOperation) << "\n";
   os << indent << "CsgBlendRadius: " << s.CsgBlendRadius << "\n";
   os << indent << "TwoSidedBoundaryValues: " << s.TwoSidedBoundaryValues << "\n";
-  os << indent << "SourceSampling: " << s.SourceSampling << "\n";
-  os << indent << "SourceOperator: " << s.SourceOperator << "\n";
-  os << indent << "BiharmonicStrategy: " << s.BiharmonicStrategy << "\n";
+  os << indent << "SourceSampling: " << gridfree::CodeOf(s.SourceSampling) << "\n";
+  os << indent << "SourceOperator: " << gridfree::CodeOf(s.SourceOperator) << "\n";
+  os << indent << "BiharmonicStrategy: " << gridfree::CodeOf(s.BiharmonicStrategy) << "\n";
   os << indent << "NestedWalks: " << s.NestedWalks << "\n";
   os << indent << "WalksPerPoint: " << s.WalksPerPoint << "\n";
   os << indent << "Epsilon: " << s.Epsilon << "\n";

@@ -10,6 +10,11 @@ Prints two tables (one run, this machine):
 2. The solver on a mesh given with --mesh (for example the 1.9M-triangle soup
    LIDC2_iso10.5_raw.vtp): the first update, then one after the probe plane
    moved, then one with more walks. Only the first should build the hierarchy.
+3. With --ct-skin (Data/headsq_skin_iso500_closed.vtp): every GridFree filter
+   that solves, first update and a second one after its probe (seeds,
+   domain) moved, whether each built its boundary. The 3D filters run on the
+   skin; the 2D ones (cross field, deformation, diffusion curves) on the
+   skin's contour in the plane through its centre.
 
 Runs against any build of the `gridfree` package on PYTHONPATH (older builds
 report no LastBoundaryBuilt). Not a test: run by hand, e.g.
@@ -28,6 +33,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import gridfree  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkPolyData  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkPlane  # noqa: E402
+from vtkmodules.vtkFiltersCore import vtkCutter, vtkStripper  # noqa: E402
 from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkPlatonicSolidSource  # noqa: E402
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader  # noqa: E402
@@ -101,20 +108,9 @@ def stream_tracer_table(threads):
 
 
 def solver_table(path, threads):
-    reader = vtkXMLPolyDataReader()
-    reader.SetFileName(path)
-    reader.Update()
-    mesh = vtkPolyData()
-    mesh.ShallowCopy(reader.GetOutput())
+    mesh = read_with_values(path)
     b = mesh.GetBounds()
-    values = vtkDoubleArray()
-    values.SetName("T")
-    n = mesh.GetNumberOfPoints()
-    values.SetNumberOfTuples(n)
     zmin, zmax = b[4], b[5]
-    for i in range(n):
-        values.SetValue(i, (mesh.GetPoint(i)[2] - zmin) / (zmax - zmin))
-    mesh.GetPointData().AddArray(values)
     centre = [(b[2 * k] + b[2 * k + 1]) / 2 for k in range(3)]
     plane = vtkPlaneSource()
     plane.SetResolution(40, 40)
@@ -146,12 +142,143 @@ def solver_table(path, threads):
                                              "yes" if built is None or built() else "no"))
 
 
+def read_with_values(path):
+    """The surface with T = its height scaled to [0, 1] on the points."""
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    mesh = vtkPolyData()
+    mesh.ShallowCopy(reader.GetOutput())
+    b = mesh.GetBounds()
+    values = vtkDoubleArray()
+    values.SetName("T")
+    values.SetNumberOfTuples(mesh.GetNumberOfPoints())
+    for i in range(mesh.GetNumberOfPoints()):
+        values.SetValue(i, (mesh.GetPoint(i)[2] - b[4]) / (b[5] - b[4]))
+    mesh.GetPointData().AddArray(values)
+    return mesh
+
+
+def contour_of(mesh):
+    """The mesh cut by the plane z = its centre: closed polylines in one
+    z-plane, with the mesh's point arrays interpolated."""
+    b = mesh.GetBounds()
+    plane = vtkPlane()
+    plane.SetOrigin(0.0, 0.0, (b[4] + b[5]) / 2)
+    plane.SetNormal(0.0, 0.0, 1.0)
+    cutter = vtkCutter()
+    cutter.SetInputData(mesh)
+    cutter.SetCutFunction(plane)
+    stripper = vtkStripper()
+    stripper.SetInputConnection(cutter.GetOutputPort())
+    stripper.JoinContiguousSegmentsOn()
+    stripper.Update()
+    curve = vtkPolyData()
+    curve.DeepCopy(stripper.GetOutput())
+    return curve
+
+
+def cloud_in(mesh, count, shift, seed=7):
+    """`count` points spread in the middle half of the mesh's box (in its
+    z-centre plane for a curve), moved by `shift` of the box."""
+    b = mesh.GetBounds()
+    rng = random.Random(seed)
+    flat = b[5] - b[4] < 1e-9 * max(b[1] - b[0], 1.0)
+    points = []
+    for _ in range(count):
+        p = [(b[2 * k] + b[2 * k + 1]) / 2 + (rng.uniform(-0.25, 0.25) + shift) *
+             (b[2 * k + 1] - b[2 * k]) for k in range(3)]
+        if flat:
+            p[2] = b[4]
+        points.append(p)
+    return point_cloud(points)
+
+
+def filters_table(path, threads):
+    skin = read_with_values(path)
+    curve = contour_of(skin)
+    add_contour_colours(curve)
+    target = vtkPolyData()
+    target.DeepCopy(curve)
+    c = [(curve.GetBounds()[2 * k] + curve.GetBounds()[2 * k + 1]) / 2 for k in range(2)]
+    for i in range(target.GetNumberOfPoints()):
+        x, y, z = target.GetPoint(i)
+        target.GetPoints().SetPoint(i, c[0] + 1.1 * (x - c[0]) - 0.1 * (y - c[1]),
+                                    c[1] + 0.1 * (x - c[0]) + 1.1 * (y - c[1]), z)
+
+    # Each filter: its class, the setter of its points, its settings
+    # (Set<Name>(value)), the arrays it reads (index, name), where its points
+    # lie and how many.
+    height = [(0, "T")]
+    colours = [(0, "FrontColor"), (1, "BackColor")]
+    filters = (
+        ("Walk On Spheres Solver (gradient)", gridfree.vtkWalkOnSpheresSolver, "SetProbeData",
+         dict(BoundaryData=skin, ComputeGradient=True), height, skin, 400),
+        ("Walk On Spheres Stream Tracer", gridfree.vtkWalkOnSpheresStreamTracer, "SetSeedsData",
+         dict(BoundaryData=skin, MaximumNumberOfSteps=10), height, skin, 8),
+        ("Walk On Spheres Adaptive Sampler", gridfree.vtkWalkOnSpheresAdaptiveSampler,
+         "SetDomainData", dict(BoundaryData=skin, InitialSamples=32, MaximumSamples=64), height,
+         skin, 2000),
+        ("Helmholtz Decomposition", gridfree.vtkWalkOnSpheresHelmholtzDecomposition,
+         "SetProbeData", dict(BoundaryData=skin, FieldExpression="y*iHat - x*jHat + (x*z)*kHat"),
+         [], skin, 100),
+        # (Its singularity search, off here, asks the same kept problem in
+        # every batch; on the head's contour it takes minutes.)
+        ("Cross Field (no search)", gridfree.vtkWalkOnSpheresCrossField, "SetProbeData",
+         dict(BoundaryData=curve, SearchSingularities=False), [], curve, 100),
+        ("Deformation", gridfree.vtkWalkOnSpheresDeformation, "SetProbeData",
+         dict(SourceData=curve, TargetData=target), [], curve, 100),
+        ("Diffusion Curves", gridfree.vtkWalkOnSpheresDiffusionCurves, "SetProbeData",
+         dict(BoundaryData=curve), colours, curve, 400))
+
+    print("\nEvery filter that solves, %s: the CT skin (%d triangles) for 3D, "
+          "its centre contour (%d segments) for 2D; 64 walks per point" % (
+              "%d thread(s)" % threads if threads else "all threads", skin.GetNumberOfPolys(), curve.GetNumberOfCells() and
+              sum(curve.GetCell(i).GetNumberOfPoints() - 1
+                  for i in range(curve.GetNumberOfCells()))))
+    print("| filter | boundary | first update (s) | built | after moving its points (s) | built |")
+    print("|---|---|---:|---|---:|---|")
+    for name, cls, set_points, settings, arrays, where, count in filters:
+        f = cls()
+        for key, value in settings.items():
+            getattr(f, "Set" + key)(value)
+        for index, array in arrays:
+            f.SetInputArrayToProcess(index, 0, 0, POINTS, array)
+        getattr(f, set_points)(cloud_in(where, count, 0.0))
+        f.SetWalksPerPoint(64)
+        f.SetNumberOfThreads(threads)
+        first = timed_update(f)
+        built_first = f.GetLastBoundaryBuilt()
+        getattr(f, set_points)(cloud_in(where, count, 0.02))
+        second = timed_update(f)
+        print("| %s | %s | %.2f | %s | %.2f | %s |" % (
+            name, "skin" if where is skin else "contour", first,
+            "yes" if built_first else "no", second,
+            "yes" if f.GetLastBoundaryBuilt() else "no"))
+
+
+def add_contour_colours(curve):
+    for name, function in (("FrontColor", lambda x, y: x), ("BackColor", lambda x, y: y)):
+        values = vtkDoubleArray()
+        values.SetName(name)
+        values.SetNumberOfTuples(curve.GetNumberOfPoints())
+        for i in range(curve.GetNumberOfPoints()):
+            x, y, _ = curve.GetPoint(i)
+            values.SetValue(i, function(x, y))
+        curve.GetPointData().AddArray(values)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mesh", help="a .vtp surface for the solver table")
     parser.add_argument("--threads", type=int, default=0, help="0: all")
     parser.add_argument("--skip-tracer", action="store_true")
+    parser.add_argument("--ct-skin", help="Data/headsq_skin_iso500_closed.vtp: every filter's "
+                        "first and second update")
     args = parser.parse_args()
+    if args.ct_skin:
+        filters_table(args.ct_skin, args.threads)
+        return
     if not args.skip_tracer:
         stream_tracer_table(args.threads)
     if args.mesh:

@@ -4,7 +4,9 @@ probe, changing the walks, the seed or Epsilon, or refining reuses it, with
 the numbers of a fresh solver; new boundary data, another value array, an
 expression, the equation's g-and-h layout or an edited implicit function
 rebuild it. The stream tracer, which asks its problem at every stage, builds
-it once per execution and keeps it the same way."""
+it once per execution and keeps it the same way, and so do the application
+filters (Helmholtz decomposition, cross field, deformation, diffusion curves)."""
+import math
 import os
 import sys
 
@@ -14,7 +16,8 @@ import gridfree  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
 
-from gridfree_testing import add_point_array, sphere_boundary  # noqa: E402
+from gridfree_testing import (  # noqa: E402
+    MessageCatcher, add_point_array, closed_polyline, point_cloud, sphere_boundary)
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
 Solver = gridfree.vtkWalkOnSpheresSolver
@@ -219,3 +222,88 @@ def test_inputs_re_executed_with_the_same_values_keep_boundary_and_sums():
     solver.SetWalksPerPoint(128)
     assert updated(solver)
     assert solver.GetLastResumedWalksPerPoint() == 0
+
+
+def circle_points(radius=1.0, sides=128):
+    return [(radius * math.cos(2 * math.pi * k / sides), radius * math.sin(2 * math.pi * k / sides))
+            for k in range(sides)]
+
+
+def probe_clouds(dimension):
+    """Two probes of a few points each, the second moved."""
+    z = 0.1 if dimension == 3 else 0.0
+    first = [(0.1 * i - 0.3, 0.05 * i - 0.1, z) for i in range(7)]
+    moved = [(x + 0.031, y - 0.017, z) for x, y, z in first]
+    return point_cloud(first), point_cloud(moved)
+
+
+def helmholtz_filter(probe):
+    helmholtz = gridfree.vtkWalkOnSpheresHelmholtzDecomposition()
+    helmholtz.SetBoundaryData(sphere_boundary(resolution=24))
+    helmholtz.SetProbeData(probe)
+    helmholtz.SetFieldExpression("(y + x)*iHat + (z - x)*jHat + (x*y)*kHat")
+    return helmholtz
+
+
+def cross_field_filter(probe):
+    cross = gridfree.vtkWalkOnSpheresCrossField()
+    cross.SetBoundaryData(closed_polyline(circle_points()))
+    cross.SetProbeData(probe)
+    cross.SetSearchSingularities(True)
+    cross.SetSearchGridCells(4)
+    cross.SetSearchRefinements(0)
+    cross.SetNumberOfSeeds(4)
+    cross.SetSearchWalksPerPoint(16)
+    cross.SetTraceSeparatrices(False)
+    return cross
+
+
+def deformation_filter(probe):
+    source = circle_points()
+    deformation = gridfree.vtkWalkOnSpheresDeformation()
+    deformation.SetSourceData(closed_polyline(source))
+    deformation.SetTargetData(closed_polyline([(1.2 * x - 0.3 * y, 0.3 * x + 1.2 * y + 0.1)
+                                               for x, y in source]))
+    deformation.SetProbeData(probe)
+    return deformation
+
+
+def diffusion_curves_filter(probe):
+    boundary = closed_polyline(circle_points())
+    add_point_array(boundary, "FrontColor", lambda x, y, z: x * x - y * y)
+    add_point_array(boundary, "BackColor", lambda x, y, z: x)
+    curves = gridfree.vtkWalkOnSpheresDiffusionCurves()
+    curves.SetBoundaryData(boundary)
+    curves.SetProbeData(probe)
+    curves.SetInputArrayToProcess(0, 0, 0, POINTS, "FrontColor")
+    curves.SetInputArrayToProcess(1, 0, 0, POINTS, "BackColor")
+    return curves
+
+
+def test_application_filters_keep_their_boundaries():
+    """Each application filter keeps its solves' boundaries between
+    executions: a moved probe, other walks or another seed rebuild nothing
+    (the Helmholtz decomposition's two potentials each keep their own), and
+    the numbers are those of a fresh filter."""
+    for make, dimension in ((helmholtz_filter, 3), (cross_field_filter, 2),
+                            (deformation_filter, 2), (diffusion_curves_filter, 2)):
+        first, moved = probe_clouds(dimension)
+        kept = make(first)
+        kept.SetWalksPerPoint(16)
+        catcher = MessageCatcher(kept)
+        kept.Update()
+        assert not catcher.errors, catcher.error_text()
+        assert kept.GetLastBoundaryBuilt(), make.__name__
+        for change in (lambda f: f.SetProbeData(moved), lambda f: f.SetWalksPerPoint(24),
+                       lambda f: f.SetSeed(5)):
+            change(kept)
+            kept.Update()
+            assert not kept.GetLastBoundaryBuilt(), make.__name__
+        fresh = make(moved)
+        fresh.SetWalksPerPoint(24)
+        fresh.SetSeed(5)
+        fresh.Update()
+        assert fresh.GetLastBoundaryBuilt()
+        assert point_arrays_of(kept.GetOutput()) == point_arrays_of(fresh.GetOutput()), \
+            make.__name__
+        assert not catcher.errors, catcher.error_text()

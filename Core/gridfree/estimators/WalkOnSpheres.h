@@ -44,6 +44,7 @@
 #ifndef GRIDFREE_ESTIMATORS_WALK_ON_SPHERES_H
 #define GRIDFREE_ESTIMATORS_WALK_ON_SPHERES_H
 
+#include <gridfree/estimators/Equation.h>
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/ExteriorReturn.h>
@@ -63,26 +64,6 @@
 
 namespace gridfree
 {
-enum class Equation
-{
-  Laplace,
-  Poisson,
-  ScreenedPoisson,
-  Biharmonic
-};
-
-enum class BiharmonicStrategy
-{
-  TreeWalking, // Sec. 4.3: reuse the outer walk's boundary hit
-  Nested       // Sec. 2.5: inner Laplace walks at every step
-};
-
-enum class ExteriorStrategy
-{
-  ExactReturn,    // survival probability = true return probability
-  RussianRoulette // survival probability ρ_far/r per step, survivors reweighted
-};
-
 struct WalkSettings
 {
   // Absolute stopping tolerance ε: a walk stops once dist(x, ∂Ω) < ε.

@@ -50,6 +50,7 @@
 #ifndef GRIDFREE_IMPLICIT_CSG_FUNCTIONS_H
 #define GRIDFREE_IMPLICIT_CSG_FUNCTIONS_H
 
+#include <gridfree/implicit/CsgOperation.h>
 #include <gridfree/geometry/BoundingBox.h>
 #include <gridfree/implicit/SignedDistance.h>
 #include <gridfree/math/Vector.h>
@@ -63,13 +64,6 @@
 
 namespace gridfree
 {
-enum class CsgOperation
-{
-  Union,
-  Intersection,
-  Difference
-};
-
 template <int DIM>
 class CsgDistance final : public SignedDistanceFunction<DIM>
 {

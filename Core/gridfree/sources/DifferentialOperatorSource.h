@@ -6,6 +6,7 @@
 #ifndef GRIDFREE_SOURCES_DIFFERENTIAL_OPERATOR_SOURCE_H
 #define GRIDFREE_SOURCES_DIFFERENTIAL_OPERATOR_SOURCE_H
 
+#include <gridfree/sources/SourceOperator.h>
 #include <gridfree/sources/SourceTerms.h>
 #include <gridfree/math/Vector.h>
 
@@ -15,14 +16,6 @@
 
 namespace gridfree
 {
-// What the source term is made of the source data.
-enum class SourceOperator
-{
-  Value = 0,
-  Divergence = 1,
-  Curl = 2
-};
-
 // X has DIM or 3 components (∂/∂z = 0 in 2D). The derivatives are the
 // field's own EvaluateGradient: exact for interpolated data (the derivative
 // of the trilinear or cell interpolant), central differences for

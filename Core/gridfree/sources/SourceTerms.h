@@ -14,6 +14,7 @@
 #ifndef GRIDFREE_SOURCES_SOURCE_TERMS_H
 #define GRIDFREE_SOURCES_SOURCE_TERMS_H
 
+#include <gridfree/sources/SourceSampling.h>
 #include <gridfree/sampling/BallSampling.h>
 #include <gridfree/sources/ConcentratedSources.h>
 #include <gridfree/sources/SourceDensityMap.h>
@@ -26,15 +27,6 @@
 
 namespace gridfree
 {
-// How the volume term ∫_B f G is sampled.
-enum class SourceSampling
-{
-  Uniform,            // y ~ U(B): weight |B| G(x, y)
-  GreensFunction,     // y ~ G / ∫G: weight ∫G (App. B samplers)
-  MultipleImportance, // one sample of each, balance heuristic (Veach & Guibas 1995)
-  SourceDensity       // y ~ G / ∫G and y ~ |f| (SourceDensityMap.h), balance heuristic
-};
-
 // A volume source f(y) with a fixed number of components. Evaluate may use
 // scratch memory, so every thread owns its own object.
 template <int DIM>

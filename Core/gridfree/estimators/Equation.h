@@ -1,0 +1,34 @@
+// What a walk-on-spheres estimator solves, and how: the equation, the
+// biharmonic equation's strategy and the exterior problem's walk ending.
+// The codes of Equation, BiharmonicStrategy (and of the source choices in
+// sources/SourceSampling.h, sources/SourceOperator.h) are those of the VTK
+// filters' properties, in the same order. A header of its own so that
+// settings can name them without the estimators.
+#ifndef GRIDFREE_ESTIMATORS_EQUATION_H
+#define GRIDFREE_ESTIMATORS_EQUATION_H
+
+namespace gridfree
+{
+enum class Equation
+{
+  Laplace,
+  Poisson,
+  ScreenedPoisson,
+  Biharmonic
+};
+
+enum class BiharmonicStrategy
+{
+  TreeWalking, // Sec. 4.3: reuse the outer walk's boundary hit
+  Nested       // Sec. 2.5: inner Laplace walks at every step
+};
+
+enum class ExteriorStrategy
+{
+  ExactReturn,    // survival probability = true return probability
+  RussianRoulette // survival probability ρ_far/r per step, survivors reweighted
+};
+
+} // namespace gridfree
+
+#endif
