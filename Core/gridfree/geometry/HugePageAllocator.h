@@ -5,7 +5,7 @@
 // touches a few dozen cache lines on as many different 4 KiB pages, and each
 // page it has not seen lately costs a page walk. One 2 MiB page covers 512 of
 // them. Measured near the surface of 327k- and 1.3M-triangle spheres: 3-15%
-// faster in alternating runs (Documentation §8, "Huge pages").
+// faster in alternating runs (Documentation/Performance.md, "Huge pages").
 //
 // The mark is a hint: where the kernel's transparent huge pages are off (or
 // set to "never"), or on other systems, memory is plain and nothing else
