@@ -1,8 +1,7 @@
 // The accessors of the settings a filter keeps in one gridfree::SolveSettings
-// (its Internal->Settings): defined once here for every filter that keeps
-// its settings that way (vtkWalkOnSpheresSolverDriver,
-// vtkWalkOnSpheresProbeAlgorithm), so that a property's clamp and its
-// Modified() behave alike in each. Use in the filter's .cxx only.
+// (vtkWalkOnSpheresAlgorithm's GetSettings()): defined once here for the
+// base's sampling settings and the subclasses' own, so that a property's
+// clamp and its Modified() behave alike in each. Use in a .cxx only.
 // Private to the GridFree::Filters module.
 #ifndef GridFreeSettingAccessors_h
 #define GridFreeSettingAccessors_h
@@ -17,13 +16,13 @@
   void Class::Set##Name(Type value)                                                                \
   {                                                                                                \
     value = std::min<Type>(std::max<Type>(value, lo), hi);                                         \
-    if (this->Internal->Settings.Name != value)                                                    \
+    if (this->GetSettings().Name != value)                                                         \
     {                                                                                              \
-      this->Internal->Settings.Name = value;                                                       \
+      this->GetSettings().Name = value;                                                            \
       this->Modified();                                                                            \
     }                                                                                              \
   }                                                                                                \
-  Type Class::Get##Name() { return this->Internal->Settings.Name; }
+  Type Class::Get##Name() { return this->GetSettings().Name; }
 
 // A choice's accessors: the integer code (vtkWalkOnSpheresSolver's
 // enumeration) clamped to [0, hi], stored as the core's typed choice.
@@ -31,12 +30,12 @@
   void Class::Set##Name(int code)                                                                  \
   {                                                                                                \
     const Choice value = static_cast<Choice>(std::min(std::max(code, 0), hi));                     \
-    if (this->Internal->Settings.Name != value)                                                    \
+    if (this->GetSettings().Name != value)                                                         \
     {                                                                                              \
-      this->Internal->Settings.Name = value;                                                       \
+      this->GetSettings().Name = value;                                                            \
       this->Modified();                                                                            \
     }                                                                                              \
   }                                                                                                \
-  int Class::Get##Name() { return gridfree::CodeOf(this->Internal->Settings.Name); }
+  int Class::Get##Name() { return gridfree::CodeOf(this->GetSettings().Name); }
 
 #endif

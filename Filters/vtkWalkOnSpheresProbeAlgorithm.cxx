@@ -4,7 +4,6 @@
 #include "GridFreeArrays.h"
 #include "GridFreePointEstimates.h"
 #include "GridFreeProblemBuilder.h"
-#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 #include "GridFreeWholeInputRequest.h"
 #include "vtkCellData.h"
@@ -21,49 +20,14 @@
 #include <algorithm>
 #include <array>
 #include <exception>
-#include <map>
-#include <memory>
 #include <string>
 #include <vector>
 
-// The filter's settings, and the builders of the subclass's solves, by
-// number: each keeps its boundary between executions.
-struct vtkWalkOnSpheresProbeAlgorithm::Internals
-{
-  gridfree::SolveSettings Settings;
-  std::map<int, std::unique_ptr<gridfree::ProblemBuilder>> Builders;
-  bool LastBoundaryBuilt = false;
-
-  Internals() { this->Settings.WalksPerPoint = 256; }
-};
-
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, WalksPerPoint, int, 2, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, Epsilon, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, EpsilonIsRelative, bool, false, true)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, MaxSteps, int, 1, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, Seed, int, VTK_INT_MIN, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresProbeAlgorithm, NumberOfThreads, int, 0, VTK_INT_MAX)
-
 vtkWalkOnSpheresProbeAlgorithm::vtkWalkOnSpheresProbeAlgorithm()
-  : Internal(new Internals)
 {
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(1);
-}
-
-bool vtkWalkOnSpheresProbeAlgorithm::GetLastBoundaryBuilt()
-{
-  return this->Internal->LastBoundaryBuilt;
-}
-
-vtkTypeBool vtkWalkOnSpheresProbeAlgorithm::ProcessRequest(
-  vtkInformation* request, vtkInformationVector** inputs, vtkInformationVector* outputs)
-{
-  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA()))
-  {
-    this->Internal->LastBoundaryBuilt = false;
-  }
-  return this->Superclass::ProcessRequest(request, inputs, outputs);
+  this->GetSettings().WalksPerPoint = 256;
 }
 
 vtkWalkOnSpheresProbeAlgorithm::~vtkWalkOnSpheresProbeAlgorithm() = default;
@@ -193,7 +157,7 @@ int vtkWalkOnSpheresProbeAlgorithm::RequestUpdateExtent(
 
 gridfree::SolveSettings vtkWalkOnSpheresProbeAlgorithm::SamplingSettings() const
 {
-  return this->Internal->Settings;
+  return this->GetSettings();
 }
 
 bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settings,
@@ -202,23 +166,16 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   bool& aborted, int problemNumber)
 {
   aborted = false;
-  std::unique_ptr<gridfree::ProblemBuilder>& kept = this->Internal->Builders[problemNumber];
-  if (!kept)
-  {
-    kept.reset(new gridfree::ProblemBuilder);
-  }
-  gridfree::ProblemBuilder& builder = *kept;
   gridfree::ProblemData data;
   data.Boundary = boundary;
   data.BoundaryPiece = boundary;
   data.Source = source;
   data.Region = probe;
   gridfree::BuiltProblem problem;
-  if (!builder.Build(this, settings, arrays, data, problem))
+  if (!this->BuildKeptProblem(problemNumber, settings, arrays, data, problem))
   {
     return false;
   }
-  this->Internal->LastBoundaryBuilt |= builder.GetLastBoundaryBuilt();
 
   // The probe with the solution arrays, as vtkWalkOnSpheresSolver's output.
   result.TakeReference(probe->NewInstance());
@@ -270,13 +227,6 @@ void vtkWalkOnSpheresProbeAlgorithm::AddSummary(vtkDataObject* output)
 void vtkWalkOnSpheresProbeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "WalksPerPoint: " << this->Internal->Settings.WalksPerPoint << "\n";
-  os << indent << "Epsilon: " << this->Internal->Settings.Epsilon << "\n";
-  os << indent << "EpsilonIsRelative: " << this->Internal->Settings.EpsilonIsRelative << "\n";
-  os << indent << "MaxSteps: " << this->Internal->Settings.MaxSteps << "\n";
-  os << indent << "Seed: " << this->Internal->Settings.Seed << "\n";
-  os << indent << "NumberOfThreads: " << this->Internal->Settings.NumberOfThreads << "\n";
-  os << indent << "LastBoundaryBuilt: " << this->Internal->LastBoundaryBuilt << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastSolveSeconds: " << this->LastSolveSeconds << "\n";
 }

@@ -10,24 +10,24 @@
  * a copy of it (same type, structure and arrays) with the results added.
  * Further inputs and outputs belong to the subclass.
  *
- * The sampling settings here (walks, ε, steps, seed, threads) configure the
- * solves the subclass makes: each builds its problem and asks it at the
- * probe's points directly, with no internal pipeline. Each solve of the
- * subclass keeps its built boundary (hierarchy and values) between
- * executions, so a moved probe, other walks or another seed never rebuild
- * it (GetLastBoundaryBuilt tells). Progress of the solves is reported as
- * this filter's, and aborting this filter aborts them.
+ * The sampling settings (vtkWalkOnSpheresAlgorithm's: walks, default 256
+ * here, ε, steps, seed, threads) configure the solves the subclass makes:
+ * each builds its problem and asks it at the probe's points directly, with
+ * no internal pipeline. Each solve of the subclass keeps its built boundary
+ * (hierarchy and values) between executions, so a moved probe, other walks
+ * or another seed never rebuild it (GetLastBoundaryBuilt tells). Progress
+ * of the solves is reported as this filter's, and aborting this filter
+ * aborts them.
  *
- * @sa vtkWalkOnSpheresSolver vtkWalkOnSpheresHelmholtzDecomposition
+ * @sa vtkWalkOnSpheresAlgorithm vtkWalkOnSpheresSolver vtkWalkOnSpheresHelmholtzDecomposition
  */
 #ifndef vtkWalkOnSpheresProbeAlgorithm_h
 #define vtkWalkOnSpheresProbeAlgorithm_h
 
-#include "vtkDataSetAlgorithm.h"
 #include "GridFreeFiltersModule.h" // for export macro
+#include "vtkWalkOnSpheresAlgorithm.h"
 #include "vtkSmartPointer.h"         // for vtkSmartPointer
 
-#include <memory> // for std::unique_ptr
 #include <string>
 
 class vtkAlgorithmOutput;
@@ -39,10 +39,10 @@ struct ArraySelections;
 struct SolveSettings;
 }
 
-class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresProbeAlgorithm : public vtkDataSetAlgorithm
+class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresProbeAlgorithm : public vtkWalkOnSpheresAlgorithm
 {
 public:
-  vtkTypeMacro(vtkWalkOnSpheresProbeAlgorithm, vtkDataSetAlgorithm);
+  vtkTypeMacro(vtkWalkOnSpheresProbeAlgorithm, vtkWalkOnSpheresAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -57,65 +57,11 @@ public:
 
   ///@{
   /**
-   * Random walks per probe point for each solve (default 256, at least 2).
-   */
-  void SetWalksPerPoint(int walks);
-  int GetWalksPerPoint();
-  ///@}
-
-  ///@{
-  /**
-   * Walks stop within Epsilon of the boundary (default 1e-4), relative to
-   * the boundary's bounding-box diagonal unless EpsilonIsRelative is off.
-   */
-  void SetEpsilon(double epsilon);
-  double GetEpsilon();
-  void SetEpsilonIsRelative(bool relative);
-  bool GetEpsilonIsRelative();
-  void EpsilonIsRelativeOn() { this->SetEpsilonIsRelative(true); }
-  void EpsilonIsRelativeOff() { this->SetEpsilonIsRelative(false); }
-  ///@}
-
-  ///@{
-  /**
-   * Steps after which a walk is ended and counted (default 10000).
-   */
-  void SetMaxSteps(int steps);
-  int GetMaxSteps();
-  ///@}
-
-  ///@{
-  /**
-   * Seed of the random streams (default 0). Results depend on the seed and
-   * the points' coordinates only, never on the thread count.
-   */
-  void SetSeed(int seed);
-  int GetSeed();
-  ///@}
-
-  ///@{
-  /**
-   * Threads for the walks (default 0: all).
-   */
-  void SetNumberOfThreads(int threads);
-  int GetNumberOfThreads();
-  ///@}
-
-  ///@{
-  /**
    * Walks and seconds of the last execution, over all its solves.
    */
   vtkGetMacro(LastNumberOfWalks, vtkIdType);
   vtkGetMacro(LastSolveSeconds, double);
   ///@}
-
-  /**
-   * Whether the last execution built a boundary (its hierarchy and values)
-   * for any of its solves; false when every solve reused the boundary kept
-   * from an execution before (the Boundary input and the arrays it is built
-   * from unchanged: a moved probe, other walks or another seed).
-   */
-  bool GetLastBoundaryBuilt();
 
 protected:
   vtkWalkOnSpheresProbeAlgorithm();
@@ -134,8 +80,6 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // The probe is split as output 0 is; every other input is needed whole.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  // Starts each execution's GetLastBoundaryBuilt afresh.
-  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   // The settings this filter keeps (its sampling settings: walks, ε, steps,
   // seed, threads; the solver's defaults for everything else), for a solve
@@ -168,8 +112,6 @@ private:
   vtkWalkOnSpheresProbeAlgorithm(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
   void operator=(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
 
-  struct Internals;
-  std::unique_ptr<Internals> Internal;
 };
 
 #endif

@@ -12,7 +12,9 @@
 #include "vtkImplicitFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
@@ -21,9 +23,7 @@
 
 struct vtkWalkOnSpheresSolverDriver::Internals
 {
-  gridfree::SolveSettings Settings;
-  vtkSmartPointer<vtkImplicitFunction> Implicit; // Settings.ImplicitBoundary's owner
-  gridfree::ProblemBuilder Builder;
+  vtkSmartPointer<vtkImplicitFunction> Implicit; // the settings' ImplicitBoundary's owner
   gridfree::BuiltProblem Problem;
   std::vector<std::string> Warnings; // distinct, in order of arrival
   bool EstimateFailed = false;
@@ -35,7 +35,7 @@ vtkWalkOnSpheresSolverDriver::vtkWalkOnSpheresSolverDriver()
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
   // Lines and samples need the gradient.
-  this->Internal->Settings.ComputeGradient = true;
+  this->GetSettings().ComputeGradient = true;
 }
 
 vtkWalkOnSpheresSolverDriver::~vtkWalkOnSpheresSolverDriver() = default;
@@ -58,12 +58,6 @@ void vtkWalkOnSpheresSolverDriver::SetSourceData(vtkDataObject* data)
 }
 
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ScreeningCoefficient, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, WalksPerPoint, int, 2, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, Epsilon, double, 0.0, VTK_DOUBLE_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, EpsilonIsRelative, bool, false, true)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, MaxSteps, int, 1, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, Seed, int, VTK_INT_MIN, VTK_INT_MAX)
-GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NumberOfThreads, int, 0, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ControlVariates, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AntitheticPairs, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
@@ -80,16 +74,16 @@ void vtkWalkOnSpheresSolverDriver::SetCsgOperation(int code)
 {
   const std::optional<gridfree::CsgOperation> value =
     gridfree::CsgOperationOfCode(std::min(std::max(code, 0), 3));
-  if (this->Internal->Settings.CsgOperation != value)
+  if (this->GetSettings().CsgOperation != value)
   {
-    this->Internal->Settings.CsgOperation = value;
+    this->GetSettings().CsgOperation = value;
     this->Modified();
   }
 }
 
 int vtkWalkOnSpheresSolverDriver::GetCsgOperation()
 {
-  return gridfree::CodeOf(this->Internal->Settings.CsgOperation);
+  return gridfree::CodeOf(this->GetSettings().CsgOperation);
 }
 
 // An expression's setter: null clears it.
@@ -97,9 +91,9 @@ int vtkWalkOnSpheresSolverDriver::GetCsgOperation()
   void vtkWalkOnSpheresSolverDriver::Set##Name(const char* expression)                             \
   {                                                                                                \
     const std::string text = expression ? expression : "";                                         \
-    if (text != this->Internal->Settings.Name)                                                     \
+    if (text != this->GetSettings().Name)                                                     \
     {                                                                                              \
-      this->Internal->Settings.Name = text;                                                        \
+      this->GetSettings().Name = text;                                                        \
       this->Modified();                                                                            \
     }                                                                                              \
   }
@@ -114,7 +108,7 @@ void vtkWalkOnSpheresSolverDriver::SetImplicitBoundary(vtkImplicitFunction* func
   if (function != this->Internal->Implicit)
   {
     this->Internal->Implicit = function;
-    this->Internal->Settings.ImplicitBoundary = function;
+    this->GetSettings().ImplicitBoundary = function;
     this->Modified();
   }
 }
@@ -124,9 +118,35 @@ vtkImplicitFunction* vtkWalkOnSpheresSolverDriver::GetImplicitBoundary()
   return this->Internal->Implicit;
 }
 
-bool vtkWalkOnSpheresSolverDriver::GetLastBoundaryBuilt()
+vtkPolyData* vtkWalkOnSpheresSolverDriver::GetOutput()
 {
-  return this->Internal->Builder.GetLastBoundaryBuilt();
+  return this->GetOutput(0);
+}
+
+vtkPolyData* vtkWalkOnSpheresSolverDriver::GetOutput(int port)
+{
+  return vtkPolyData::SafeDownCast(this->GetOutputDataObject(port));
+}
+
+int vtkWalkOnSpheresSolverDriver::FillOutputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
+  return 1;
+}
+
+int vtkWalkOnSpheresSolverDriver::RequestDataObject(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+  {
+    vtkInformation* info = outputVector->GetInformationObject(port);
+    if (!vtkPolyData::SafeDownCast(info->Get(vtkDataObject::DATA_OBJECT())))
+    {
+      vtkNew<vtkPolyData> output;
+      info->Set(vtkDataObject::DATA_OBJECT(), output);
+    }
+  }
+  return 1;
 }
 
 // Editing the implicit function must re-execute the filter.
@@ -181,8 +201,8 @@ bool vtkWalkOnSpheresSolverDriver::BuildProblem(
   data.BoundaryPiece = boundary;
   data.Source = source;
   data.Region = region;
-  return state.Builder.Build(
-    this, state.Settings, gridfree::ArraySelections::Of(this), data, state.Problem);
+  return this->BuildKeptProblem(
+    0, this->GetSettings(), gridfree::ArraySelections::Of(this), data, state.Problem);
 }
 
 bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<double, 3>>& points,
@@ -203,7 +223,7 @@ bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<doubl
   try
   {
     completed = gridfree::EstimateAtPoints(
-      this, state.Problem, state.Settings, points, arrays, nullptr, run, summary);
+      this, state.Problem, this->GetSettings(), points, arrays, nullptr, run, summary);
   }
   catch (const std::exception& e)
   {
@@ -242,7 +262,7 @@ void vtkWalkOnSpheresSolverDriver::ReportWarnings()
 void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  const gridfree::SolveSettings& s = this->Internal->Settings;
+  const gridfree::SolveSettings& s = this->GetSettings();
   os << indent << "Equation: " << gridfree::CodeOf(s.Equation) << "\n";
   os << indent << "ScreeningCoefficient: " << s.ScreeningCoefficient << "\n";
   os << indent << "SourceExpression: " << s.SourceExpression << "\n";
@@ -257,12 +277,6 @@ void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SourceOperator: " << gridfree::CodeOf(s.SourceOperator) << "\n";
   os << indent << "BiharmonicStrategy: " << gridfree::CodeOf(s.BiharmonicStrategy) << "\n";
   os << indent << "NestedWalks: " << s.NestedWalks << "\n";
-  os << indent << "WalksPerPoint: " << s.WalksPerPoint << "\n";
-  os << indent << "Epsilon: " << s.Epsilon << "\n";
-  os << indent << "EpsilonIsRelative: " << (s.EpsilonIsRelative ? "On" : "Off") << "\n";
-  os << indent << "MaxSteps: " << s.MaxSteps << "\n";
-  os << indent << "Seed: " << s.Seed << "\n";
-  os << indent << "NumberOfThreads: " << s.NumberOfThreads << "\n";
   os << indent << "ControlVariates: " << (s.ControlVariates ? "On" : "Off") << "\n";
   os << indent << "AntitheticPairs: " << (s.AntitheticPairs ? "On" : "Off") << "\n";
 }

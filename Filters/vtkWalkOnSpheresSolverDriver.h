@@ -12,16 +12,16 @@
  * built once per execution and then asked directly for the value and the
  * gradient at each batch of points, with no internal pipeline; the boundary
  * is kept between executions while the Boundary input, the implicit
- * boundary and the boundary settings are unchanged. Every input is
- * requested whole.
+ * boundary and the boundary settings are unchanged
+ * (vtkWalkOnSpheresAlgorithm). Every input is requested whole.
  *
- * @sa vtkWalkOnSpheresStreamTracer vtkWalkOnSpheresAdaptiveSampler
+ * @sa vtkWalkOnSpheresAlgorithm vtkWalkOnSpheresStreamTracer vtkWalkOnSpheresAdaptiveSampler
  */
 #ifndef vtkWalkOnSpheresSolverDriver_h
 #define vtkWalkOnSpheresSolverDriver_h
 
 #include "GridFreeFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkWalkOnSpheresAlgorithm.h"
 
 #include <array>   // for std::array
 #include <memory>  // for std::unique_ptr
@@ -32,11 +32,12 @@ class vtkDataObject;
 class vtkDataSet;
 class vtkImplicitFunction;
 class vtkPointData;
+class vtkPolyData;
 
-class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolverDriver : public vtkPolyDataAlgorithm
+class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolverDriver : public vtkWalkOnSpheresAlgorithm
 {
 public:
-  vtkTypeMacro(vtkWalkOnSpheresSolverDriver, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkWalkOnSpheresSolverDriver, vtkWalkOnSpheresAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -107,35 +108,24 @@ public:
 
   ///@{
   /**
-   * The sampling settings (those of vtkWalkOnSpheresSolver): walks per
-   * point (at least 2), Epsilon (relative to the boundary's diagonal unless
-   * EpsilonIsRelative is off), MaxSteps, Seed, NumberOfThreads (0: all),
-   * ControlVariates for the gradient (default on), AntitheticPairs (default
-   * off; see vtkWalkOnSpheresSolver).
+   * The gradient's variance reduction (those of vtkWalkOnSpheresSolver):
+   * ControlVariates (default on) and AntitheticPairs (default off). The
+   * sampling settings (walks, default 128, ε, steps, seed, threads) are
+   * vtkWalkOnSpheresAlgorithm's.
    */
-  void SetWalksPerPoint(int walks);
-  int GetWalksPerPoint();
-  void SetEpsilon(double epsilon);
-  double GetEpsilon();
-  void SetEpsilonIsRelative(bool relative);
-  bool GetEpsilonIsRelative();
-  void SetMaxSteps(int steps);
-  int GetMaxSteps();
-  void SetSeed(int seed);
-  int GetSeed();
-  void SetNumberOfThreads(int threads);
-  int GetNumberOfThreads();
   void SetControlVariates(bool on);
   bool GetControlVariates();
   void SetAntitheticPairs(bool on);
   bool GetAntitheticPairs();
   ///@}
 
+  ///@{
   /**
-   * Whether the last execution built the boundary (its hierarchy and
-   * values); false when it reused the one kept from the execution before.
+   * The output: the lines or samples (vtkPolyData).
    */
-  bool GetLastBoundaryBuilt();
+  vtkPolyData* GetOutput();
+  vtkPolyData* GetOutput(int port);
+  ///@}
 
   /**
    * Includes the implicit boundary's MTime.
@@ -150,6 +140,9 @@ protected:
   static constexpr int SourcePort = 2;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  // The output is a vtkPolyData whatever the Boundary's type.
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   // Builds the problem of the Boundary and Source inputs and this filter's
