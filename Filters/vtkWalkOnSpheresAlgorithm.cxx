@@ -61,17 +61,28 @@ bool vtkWalkOnSpheresAlgorithm::BuildKeptProblem(int problem,
   const gridfree::SolveSettings& settings, const gridfree::ArraySelections& arrays,
   const gridfree::ProblemData& data, gridfree::BuiltProblem& built)
 {
+  gridfree::ProblemBuilder& builder = this->KeptBuilder(problem);
+  if (!builder.Build(this, settings, arrays, data, built))
+  {
+    return false;
+  }
+  this->NoteBoundaryBuilt(builder.GetLastBoundaryBuilt());
+  return true;
+}
+
+gridfree::ProblemBuilder& vtkWalkOnSpheresAlgorithm::KeptBuilder(int problem)
+{
   std::unique_ptr<gridfree::ProblemBuilder>& builder = this->Kept->Builders[problem];
   if (!builder)
   {
     builder.reset(new gridfree::ProblemBuilder);
   }
-  if (!builder->Build(this, settings, arrays, data, built))
-  {
-    return false;
-  }
-  this->Kept->LastBoundaryBuilt |= builder->GetLastBoundaryBuilt();
-  return true;
+  return *builder;
+}
+
+void vtkWalkOnSpheresAlgorithm::NoteBoundaryBuilt(bool built)
+{
+  this->Kept->LastBoundaryBuilt |= built;
 }
 
 void vtkWalkOnSpheresAlgorithm::PrintSelf(ostream& os, vtkIndent indent)

@@ -1,12 +1,11 @@
 /**
  * @class   vtkWalkOnSpheresAlgorithm
- * @brief   Base of the GridFree filters that solve at points of their own
- *          choosing: it keeps their settings and their built problems
- *          between executions.
+ * @brief   Base of every GridFree filter that solves: it keeps their
+ *          settings and their built problems between executions.
  *
- * The stream tracer and the adaptive sampler (through
- * vtkWalkOnSpheresSolverDriver) and the application filters (through
- * vtkWalkOnSpheresProbeAlgorithm) derive from it. It holds the filter's
+ * The Walk On Spheres Solver, the stream tracer and the adaptive sampler
+ * (through vtkWalkOnSpheresSolverDriver) and the application filters
+ * (through vtkWalkOnSpheresProbeAlgorithm) derive from it. It holds the filter's
  * settings in one gridfree::SolveSettings, with the sampling settings every
  * such filter shares (walks, ε, steps, seed, threads) as its properties, and
  * one problem builder per solve of the subclass: a builder keeps its built
@@ -14,7 +13,7 @@
  * change, so a second execution with moved points, other walks or another
  * seed rebuilds nothing (GetLastBoundaryBuilt tells).
  *
- * @sa vtkWalkOnSpheresSolverDriver vtkWalkOnSpheresProbeAlgorithm
+ * @sa vtkWalkOnSpheresSolver vtkWalkOnSpheresSolverDriver vtkWalkOnSpheresProbeAlgorithm
  */
 #ifndef vtkWalkOnSpheresAlgorithm_h
 #define vtkWalkOnSpheresAlgorithm_h
@@ -28,6 +27,7 @@ namespace gridfree
 {
 struct ArraySelections;
 struct BuiltProblem;
+class ProblemBuilder;
 struct ProblemData;
 struct SolveSettings;
 }
@@ -42,14 +42,16 @@ public:
   /**
    * Random walks per point (at least 2; the default is the subclass's).
    */
-  void SetWalksPerPoint(int walks);
+  virtual void SetWalksPerPoint(int walks);
   int GetWalksPerPoint();
   ///@}
 
   ///@{
   /**
-   * Walks stop within Epsilon of the boundary (default 1e-4), relative to
-   * the boundary's bounding-box diagonal unless EpsilonIsRelative is off.
+   * Stopping tolerance: a walk ends once it is closer than Epsilon to the
+   * boundary. Relative to the boundary's bounding-box diagonal when
+   * EpsilonIsRelative is on (the default, 1e-4), otherwise in world units.
+   * The solution's bias is O(Epsilon); cost grows only like log(1/Epsilon).
    */
   void SetEpsilon(double epsilon);
   double GetEpsilon();
@@ -61,7 +63,8 @@ public:
 
   ///@{
   /**
-   * Steps after which a walk is ended and counted (default 10000).
+   * Maximum number of steps of one walk (default 10000). Walks stopped here
+   * are counted in TruncatedFraction and reported with a warning.
    */
   void SetMaxSteps(int steps);
   int GetMaxSteps();
@@ -112,6 +115,12 @@ protected:
   bool BuildKeptProblem(int problem, const gridfree::SolveSettings& settings,
     const gridfree::ArraySelections& arrays, const gridfree::ProblemData& data,
     gridfree::BuiltProblem& built);
+
+  // The builder the subclass's solve number `problem` keeps, for a subclass
+  // that resolves and builds in two steps (the solver checks its kept sums
+  // in between); it reports what its Build did with NoteBoundaryBuilt.
+  gridfree::ProblemBuilder& KeptBuilder(int problem);
+  void NoteBoundaryBuilt(bool built);
 
 private:
   vtkWalkOnSpheresAlgorithm(const vtkWalkOnSpheresAlgorithm&) = delete;

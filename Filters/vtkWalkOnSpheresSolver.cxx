@@ -47,7 +47,6 @@ constexpr int SourcePort = 2;
 //------------------------------------------------------------------------------
 vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
   : Cache(new vtkWalkOnSpheresSolverCache)
-  , Builder(new gridfree::ProblemBuilder)
 {
   this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(1);
@@ -100,9 +99,9 @@ void vtkWalkOnSpheresSolver::ModifiedKeepingSums()
 void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
 {
   walks = std::max(walks, 2);
-  if (walks != this->WalksPerPoint)
+  if (walks != this->GetSettings().WalksPerPoint)
   {
-    this->WalksPerPoint = walks;
+    this->GetSettings().WalksPerPoint = walks;
     // Only the walk count changed: the kept running sums stay valid.
     this->ModifiedKeepingSums();
   }
@@ -197,8 +196,8 @@ void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
 
 void vtkWalkOnSpheresSolver::Refine()
 {
-  this->SetWalksPerPoint(this->WalksPerPoint > VTK_INT_MAX / 2 ? VTK_INT_MAX
-                                                               : 2 * this->WalksPerPoint);
+  const int walks = this->GetWalksPerPoint();
+  this->SetWalksPerPoint(walks > VTK_INT_MAX / 2 ? VTK_INT_MAX : 2 * walks);
 }
 
 vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
@@ -409,7 +408,8 @@ static_assert(vtkWalkOnSpheresSolver::TREE_WALKING ==
 // Every setting of the solve, from the properties.
 gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
 {
-  gridfree::SolveSettings s;
+  // The sampling settings the base keeps, the rest from the properties.
+  gridfree::SolveSettings s = this->GetSettings();
   s.ImplicitBoundary = this->ImplicitBoundary;
   s.LipschitzBound = this->LipschitzBound;
   s.CsgOperation = gridfree::CsgOperationOfCode(this->CsgOperation);
@@ -426,14 +426,8 @@ gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
   s.SourceOperator = static_cast<gridfree::SourceOperator>(this->SourceOperator);
   s.BiharmonicStrategy = static_cast<gridfree::BiharmonicStrategy>(this->BiharmonicStrategy);
   s.NestedWalks = this->NestedWalks;
-  s.WalksPerPoint = this->WalksPerPoint;
   s.TargetStandardError = this->TargetStandardError;
   s.TargetErrorIsRelative = this->TargetErrorIsRelative;
-  s.Epsilon = this->Epsilon;
-  s.EpsilonIsRelative = this->EpsilonIsRelative;
-  s.MaxSteps = this->MaxSteps;
-  s.Seed = this->Seed;
-  s.NumberOfThreads = this->NumberOfThreads;
   s.ComputeGradient = this->ComputeGradient;
   s.ComputeHessian = this->ComputeHessian;
   s.ControlVariates = this->ControlVariates;
@@ -481,7 +475,6 @@ vtkDataObject* vtkWalkOnSpheresSolver::BoundaryOf(
 int vtkWalkOnSpheresSolver::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  this->LastBoundaryBuilt = false;
   this->LastNumberOfWalks = 0;
   this->LastSolveSeconds = 0.0;
   this->LastDimension = 0;
@@ -513,7 +506,8 @@ int vtkWalkOnSpheresSolver::RequestData(
   data.GatheredSignature = pieces.Boundary.Signature;
   data.Source = pieces.Source.Whole;
   data.Region = probe;
-  if (!this->Builder->Resolve(this, settings, gridfree::ArraySelections::Of(this), data))
+  gridfree::ProblemBuilder& builder = this->KeptBuilder(0);
+  if (!builder.Resolve(this, settings, gridfree::ArraySelections::Of(this), data))
   {
     return 0;
   }
@@ -553,8 +547,8 @@ int vtkWalkOnSpheresSolver::RequestData(
   }
 
   gridfree::BuiltProblem problem;
-  bool ok = this->Builder->Build(this, problem);
-  this->LastBoundaryBuilt = this->Builder->GetLastBoundaryBuilt();
+  bool ok = builder.Build(this, problem);
+  this->NoteBoundaryBuilt(builder.GetLastBoundaryBuilt());
   if (ok)
   {
     const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);
@@ -580,7 +574,7 @@ int vtkWalkOnSpheresSolver::RequestData(
       else if (gridfree::EstimateAtPoints(this, problem, settings, points,
                  output->GetPointData(), output->GetFieldData(), run, summary))
       {
-        this->LastWalksPerPointReached = this->WalksPerPoint;
+        this->LastWalksPerPointReached = settings.WalksPerPoint;
       }
       if (!this->KeepRunningSums)
       {
@@ -604,7 +598,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   if (!ok)
   {
     this->Cache->Sums.Clear();
-    this->Builder->Forget();
+    builder.Forget();
   }
   this->Cache->Remember(this->SettingsTime.GetMTime(), used, gatheredSignature);
   if (ok && pieces.Distributed)
@@ -639,15 +633,9 @@ void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SourceOperator: " << this->SourceOperator << "\n";
   os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
   os << indent << "NestedWalks: " << this->NestedWalks << "\n";
-  os << indent << "WalksPerPoint: " << this->WalksPerPoint << "\n";
   os << indent << "TargetStandardError: " << this->TargetStandardError << "\n";
   os << indent << "TargetErrorIsRelative: " << this->TargetErrorIsRelative << "\n";
   os << indent << "KeepRunningSums: " << (this->KeepRunningSums ? "On" : "Off") << "\n";
-  os << indent << "Epsilon: " << this->Epsilon << "\n";
-  os << indent << "EpsilonIsRelative: " << (this->EpsilonIsRelative ? "On" : "Off") << "\n";
-  os << indent << "MaxSteps: " << this->MaxSteps << "\n";
-  os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "ComputeGradient: " << (this->ComputeGradient ? "On" : "Off") << "\n";
   os << indent << "ComputeHessian: " << (this->ComputeHessian ? "On" : "Off") << "\n";
   os << indent << "ControlVariates: " << (this->ControlVariates ? "On" : "Off") << "\n";

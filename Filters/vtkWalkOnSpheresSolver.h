@@ -114,7 +114,7 @@
 #define vtkWalkOnSpheresSolver_h
 
 #include "GridFreeFiltersModule.h" // for export macro
-#include "vtkDataSetAlgorithm.h"
+#include "vtkWalkOnSpheresAlgorithm.h"
 #include "vtkMultiBlockDataSet.h" // for AssembledBoundary
 #include "vtkSmartPointer.h"      // for AssembledBoundary
 #include "vtkTimeStamp.h"         // for SettingsTime
@@ -132,15 +132,14 @@ struct vtkWalkOnSpheresSolverCache;
 struct vtkWalkOnSpheresSolverPieces;
 namespace gridfree
 {
-class ProblemBuilder;
 struct SolveSettings;
 }
 
-class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkDataSetAlgorithm
+class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolver : public vtkWalkOnSpheresAlgorithm
 {
 public:
   static vtkWalkOnSpheresSolver* New();
-  vtkTypeMacro(vtkWalkOnSpheresSolver, vtkDataSetAlgorithm);
+  vtkTypeMacro(vtkWalkOnSpheresSolver, vtkWalkOnSpheresAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -489,8 +488,7 @@ public:
    * all of them, with or without derivative walks (their control-block
    * state is kept with the sums).
    */
-  virtual void SetWalksPerPoint(int walks);
-  vtkGetMacro(WalksPerPoint, int);
+  void SetWalksPerPoint(int walks) override;
   ///@}
 
   ///@{
@@ -586,45 +584,8 @@ public:
   vtkBooleanMacro(KeepRunningSums, bool);
   ///@}
 
-  ///@{
-  /**
-   * Stopping tolerance: a walk ends once it is closer than Epsilon to the
-   * boundary. Relative to the boundary's bounding-box diagonal when
-   * EpsilonIsRelative is on (the default, 1e-4), otherwise in world units.
-   * The solution's bias is O(Epsilon); cost grows only like log(1/Epsilon).
-   */
-  vtkSetClampMacro(Epsilon, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(Epsilon, double);
-  vtkSetMacro(EpsilonIsRelative, bool);
-  vtkGetMacro(EpsilonIsRelative, bool);
-  vtkBooleanMacro(EpsilonIsRelative, bool);
-  ///@}
-
-  ///@{
-  /**
-   * Maximum number of steps of one walk (default 10000). Walks stopped here
-   * are counted in TruncatedFraction and reported with a warning.
-   */
-  vtkSetClampMacro(MaxSteps, int, 1, VTK_INT_MAX);
-  vtkGetMacro(MaxSteps, int);
-  ///@}
-
-  ///@{
-  /**
-   * Seed of the random streams (default 0). The same seed gives the same
-   * numbers whatever the thread count.
-   */
-  vtkSetMacro(Seed, int);
-  vtkGetMacro(Seed, int);
-  ///@}
-
-  ///@{
-  /**
-   * Number of threads (default 0: all available cores).
-   */
-  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
-  vtkGetMacro(NumberOfThreads, int);
-  ///@}
+  // Epsilon, EpsilonIsRelative, MaxSteps, Seed and NumberOfThreads are
+  // vtkWalkOnSpheresAlgorithm's (the same properties in every filter).
 
   ///@{
   /**
@@ -660,15 +621,13 @@ public:
    */
   vtkGetMacro(LastUnreliableErrorBars, vtkIdType);
 
-  /**
-   * Whether the last execution built the boundary (conversion, hierarchy,
-   * distance bounds) or reused the one built before. It is reused while
-   * the Boundary input, the implicit boundary and the properties that shape
-   * the boundary (value arrays and expressions, Equation, two-sided values,
-   * CSG, Lipschitz bound) stay the same: moving the probe, changing the
-   * walks, the seed or Epsilon, or refining does not rebuild it.
-   */
-  vtkGetMacro(LastBoundaryBuilt, bool);
+  // GetLastBoundaryBuilt (vtkWalkOnSpheresAlgorithm): whether the last
+  // execution built the boundary (conversion, hierarchy, distance bounds) or
+  // reused the one built before. It is reused while the Boundary input, the
+  // implicit boundary and the properties that shape the boundary (value
+  // arrays and expressions, Equation, two-sided values, CSG, Lipschitz
+  // bound) stay the same: moving the probe, changing the walks, the seed or
+  // Epsilon, or refining does not rebuild it.
 
   /**
    * Any change but WalksPerPoint's also marks the kept running sums stale.
@@ -741,14 +700,8 @@ protected:
   int SourceOperator = SOURCE_VALUE;
   int BiharmonicStrategy = TREE_WALKING;
   int NestedWalks = 1;
-  int WalksPerPoint = 128;
   double TargetStandardError = 0.0;
   bool TargetErrorIsRelative = false;
-  double Epsilon = 1e-4;
-  bool EpsilonIsRelative = true;
-  int MaxSteps = 10000;
-  int Seed = 0;
-  int NumberOfThreads = 0;
   bool ComputeGradient = false;
   bool ComputeHessian = false;
   bool ControlVariates = true;
@@ -769,7 +722,6 @@ protected:
   int LastWalksPerPointReached = 0;
   bool LastSolveAborted = false;
   double TimeBudgetSeconds = 0.0;
-  bool LastBoundaryBuilt = false;
 
 private:
   vtkWalkOnSpheresSolver(const vtkWalkOnSpheresSolver&) = delete;
@@ -784,9 +736,6 @@ private:
   bool ChangingOnlyWalks = false;
   // Marks the filter modified, keeping the running sums.
   void ModifiedKeepingSums();
-
-  // Builds the problem from the inputs and keeps its boundary.
-  std::unique_ptr<gridfree::ProblemBuilder> Builder;
 
   // Every setting of the solve, from the properties.
   gridfree::SolveSettings CurrentSettings() const;
