@@ -20,6 +20,7 @@
 #include <gridfree/estimators/DerivativeWalkOnSpheres.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/problem/PointWalks.h>
 #include <gridfree/sources/SourceSet.h>
 #include <gridfree/stars/WalkOnStars.h>
 #include <gridfree/statistics/ErrorBarReliability.h>
@@ -57,10 +58,11 @@ struct BatchRequest
   DerivativeRequest Derivatives = NoDerivatives();
   // Target-error mode (when positive): a point stops walking once the
   // standard error of its value (the largest over the solution's components)
-  // is at most this, checked after kTargetFirstWalks walks and then every
-  // kTargetCheckWalks; WalksPerPoint is then the most any point takes. The
-  // decision depends only on the point's own walks, so the result is the
-  // same for any thread count. A batch with a larger WalksPerPoint resumes
+  // is at most this, checked after PointWalks::kTargetFirstWalks walks
+  // and then every PointWalks::kTargetCheckWalks (PointWalks.h);
+  // WalksPerPoint is then the most any point takes. The decision depends
+  // only on the point's own walks, so the result is the same for any
+  // thread count. A batch with a larger WalksPerPoint resumes
   // from kept sums in this mode too: points that stopped at the target keep
   // their numbers, the others continue, as one batch with that maximum would.
   // A point whose error bar is not reliable (ErrorBarReliability.h) does not
@@ -166,20 +168,6 @@ template <int DIM>
 class Problem
 {
 public:
-  // Walks of one point run in chunks of this many, with a check for abort
-  // in between: a point with millions of walks must not make abort wait for
-  // it. A multiple of the derivative estimator's control blocks (256), so
-  // chunks give the same numbers as one call.
-  static constexpr int kChunkWalks = 1024;
-  // Target-error mode: walks before the first check, and between checks. The
-  // first check waits for 128 walks: a point that stops on a lucky small
-  // spread reports too small an error, and near the boundary, where walk
-  // values are skewed (most walks end at once, a few travel far), 64 walks
-  // gave |z| up to 5.5 on the test's probe, 128 at most 4.3 (the same as a
-  // fixed count of walks there).
-  static constexpr int kTargetFirstWalks = 128;
-  static constexpr int kTargetCheckWalks = 32;
-
   // Throws std::invalid_argument for a problem no walk can solve (no
   // boundary, ε not positive, a screened equation without screening, a
   // biharmonic boundary without g and h).
@@ -449,7 +437,7 @@ public:
               // continuing from kept sums; then keeping them.
               auto runWalks = [&]() {
                 using Estimator = std::decay_t<decltype(estimator)>;
-                if constexpr (HasContinueBlock<Estimator>::value)
+                if constexpr (PointWalks::HasContinueBlock<Estimator>::value)
                 {
                   if (resumed)
                   {
@@ -461,7 +449,7 @@ public:
                 {
                   // Stopped at a looser target: it stays stopped only if
                   // it meets this one where it stands.
-                  stopped = MeetsTarget(stats, counters, target, valueComponents,
+                  stopped = PointWalks::MeetsTarget(stats, counters, target, valueComponents,
                     summary.Layout.Weight, !this->ConstantData);
                 }
                 // The point's own count: kept sums differ after an abort.
@@ -470,13 +458,13 @@ public:
                 if (target > 0.0)
                 {
                   ran = stopped ||
-                    EstimateToTarget(estimator, points[i].data(), seed, from, walks, target,
+                    PointWalks::EstimateToTarget(estimator, points[i].data(), seed, from, walks, target,
                       valueComponents, summary.Layout.Weight, !this->ConstantData, stats,
                       counters, cancel, walksDone, status, stopped);
                 }
                 else
                 {
-                  ran = EstimateInChunks(estimator, points[i].data(), seed, from, walks, stats,
+                  ran = PointWalks::EstimateInChunks(estimator, points[i].data(), seed, from, walks, stats,
                     counters, cancel, walksDone, status, from > 0);
                 }
                 // Kept also when cut short: the next batch continues from
@@ -484,7 +472,7 @@ public:
                 if (kept)
                 {
                   kept->Save(i, stats, counters, static_cast<unsigned char>(status), stopped);
-                  if constexpr (HasContinueBlock<Estimator>::value)
+                  if constexpr (PointWalks::HasContinueBlock<Estimator>::value)
                   {
                     kept->SaveHistory(i, estimator.BlockHistory());
                   }
@@ -679,119 +667,6 @@ private:
     this->Density = std::move(map);
   }
 
-  // Runs walks number `from` to `to` - 1 of one point into stats/counters in
-  // chunks of kChunkWalks, adding each finished chunk to `done` and stopping
-  // between chunks when `cancel` is set. Returns false if they were not all
-  // run; `status` receives the derivative estimator's status (unchanged for
-  // the plain one). With `continuing`, the derivative estimator continues
-  // the control block its history holds (walks up to `from` of this point).
-  template <class Estimator>
-  static bool EstimateInChunks(Estimator& estimator, const double xyz[3], std::uint64_t seed,
-    int from, int to, RunningStatistics& stats, WalkCounters& counters,
-    const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, DerivativeStatus& status,
-    bool continuing = false)
-  {
-    for (int first = from; first < to; first += kChunkWalks)
-    {
-      if constexpr (HasContinueBlock<Estimator>::value)
-      {
-        // The derivative estimator keeps its control history across calls
-        // that continue the same point's walks (chunks, target-error legs).
-        estimator.ContinueBlock(continuing || first > from);
-      }
-      if (first > from && cancel.load(std::memory_order_relaxed))
-      {
-        return false;
-      }
-      const int count = std::min(kChunkWalks, to - first);
-      using Result = decltype(estimator.EstimatePoint(
-        xyz, seed, std::uint64_t(0), count, stats, counters));
-      if constexpr (std::is_void_v<Result>)
-      {
-        estimator.EstimatePoint(xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
-      }
-      else
-      {
-        status = estimator.EstimatePoint(
-          xyz, seed, static_cast<std::uint64_t>(first), count, stats, counters);
-      }
-      done.fetch_add(static_cast<std::uint64_t>(count), std::memory_order_relaxed);
-    }
-    return true;
-  }
-
-  // Target-error mode: walks `from`, from + 1, ... of one point until the
-  // standard error of its value is at most `target` (checked after
-  // kTargetFirstWalks walks, then every kTargetCheckWalks) or `most` walks
-  // have run. The walks are those of a fixed-count run, in the same order:
-  // stopping early only drops the later ones. `stopped` says whether a check
-  // found the target reached; a point cut short by `most` between two
-  // checks is not stopped, so that a later batch with a larger maximum
-  // continues it to its next check, as a batch with that maximum from the
-  // start would. A check also requires a reliable error bar
-  // (ErrorBarReliability.h; weightSlot: the screened walk's weight, or −1).
-  // Returns false when aborted.
-  template <class Estimator>
-  static bool EstimateToTarget(Estimator& estimator, const double xyz[3], std::uint64_t seed,
-    int from, int most, double target, int valueComponents, int weightSlot,
-    bool dataVary, RunningStatistics& stats,
-    WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
-    DerivativeStatus& status, bool& stopped)
-  {
-    stopped = false;
-    int walked = from;
-    while (walked < most)
-    {
-      const int check = walked < kTargetFirstWalks
-        ? kTargetFirstWalks
-        : kTargetFirstWalks +
-          ((walked - kTargetFirstWalks) / kTargetCheckWalks + 1) * kTargetCheckWalks;
-      const int to = std::min(check, most);
-      if (!EstimateInChunks(estimator, xyz, seed, walked, to, stats, counters, cancel, done,
-            status, walked > 0))
-      {
-        return false;
-      }
-      walked = to;
-      if (walked < check)
-      {
-        break; // the maximum came first: no check here
-      }
-      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary))
-      {
-        stopped = true;
-        break;
-      }
-    }
-    return true;
-  }
-
-  // Whether a point's walks so far reach the target standard error with a
-  // reliable error bar: where EstimateToTarget stops a point.
-  static bool MeetsTarget(const RunningStatistics& stats, const WalkCounters& counters,
-    double target, int valueComponents, int weightSlot, bool dataVary)
-  {
-    const double targetVariance = target * target;
-    bool reached = true;
-    for (int c = 0; c < valueComponents && reached; ++c)
-    {
-      // NaN (a component that cannot be estimated) never reaches it.
-      reached = stats.VarianceOfMean(c) <= targetVariance;
-    }
-    return reached &&
-      CheckErrorBar(stats, 0, valueComponents, weightSlot, dataVary && counters.Steps > 0)
-        .Reliable;
-  }
-
-  template <class Estimator, class = void>
-  struct HasContinueBlock : std::false_type
-  {
-  };
-  template <class Estimator>
-  struct HasContinueBlock<Estimator,
-    std::void_t<decltype(std::declval<Estimator&>().ContinueBlock(true))>> : std::true_type
-  {
-  };
 
   // Few points, several threads: each point's walks in blocks spread over
   // the threads, each block recorded and then replayed in walk order, so the
@@ -836,7 +711,7 @@ private:
                                      : startWalks + leadWalks + (b - (leadWalks > 0)) * blockWalks;
             const int count = b == 0 && leadWalks > 0 ? leadWalks : std::min(blockWalks, walks - first);
             using Estimator = std::decay_t<decltype(estimator)>;
-            if constexpr (HasContinueBlock<Estimator>::value)
+            if constexpr (PointWalks::HasContinueBlock<Estimator>::value)
             {
               // Only a resumed point's first, partial block continues a block.
               const bool continuing = b == 0 && leadWalks > 0 && kept && startWalks > 0;
@@ -860,7 +735,7 @@ private:
               pointStatus[i] = estimator.EstimatePoint(points[i].data(), request.Seed,
                 static_cast<std::uint64_t>(first), count, recorders[item], blockCounters[item]);
             }
-            if constexpr (HasContinueBlock<Estimator>::value)
+            if constexpr (PointWalks::HasContinueBlock<Estimator>::value)
             {
               if (kept && first + count == walks)
               {
