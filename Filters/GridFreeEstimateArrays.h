@@ -128,9 +128,17 @@ struct EstimateArrays
     }
   }
 
+  // Derivatives a point lacks become 0 (their DerivativeStatus says so).
+  void Finish()
+  {
+    if (this->AnyDerivative)
+    {
+      this->Derivatives.ZeroWhereMissing();
+    }
+  }
+
   // Adds the arrays to `pd` (WalkCount only when points may differ in their
-  // walks), the solution as the active scalars; derivatives a point lacks
-  // become 0.
+  // walks), the solution as the active scalars, finished.
   void AddTo(vtkPointData* pd, bool withWalkCount)
   {
     pd->AddArray(this->Mean);
@@ -152,9 +160,9 @@ struct EstimateArrays
     pd->AddArray(this->Distance);
     pd->AddArray(this->ClosestValue);
     pd->SetActiveScalars(this->Mean->GetName());
+    this->Finish();
     if (this->AnyDerivative)
     {
-      this->Derivatives.ZeroWhereMissing();
       this->Derivatives.AddTo(pd, this->Components);
     }
   }

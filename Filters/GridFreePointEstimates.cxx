@@ -78,9 +78,13 @@ private:
 // The name of the solution arrays: the boundary array's, unless the probe
 // has an array of that name (a Plane's Normals chosen as boundary values,
 // an earlier solve's T), which is kept while the solution takes the name
-// NAME_Solution.
+// NAME_Solution. Estimates that go to no output (null `pd`) keep the name.
 std::string SolutionName(const std::string& wanted, vtkPointData* pd, const Warn& warn)
 {
+  if (!pd)
+  {
+    return wanted;
+  }
   auto collides = [pd](const std::string& stem)
   {
     for (const char* suffix : { "", "_Variance", "_Gradient", "_Hessian", "_Laplacian",
@@ -381,11 +385,12 @@ std::int64_t PointsShortOfTarget(const EstimateArrays& arrays, double target, in
 }
 
 // The batch at `probePoints`: the request from the settings, the run, the
-// arrays written once at the end, the summary and the warnings.
+// arrays (added to `pd` once at the end, unless it is null), the summary and
+// the warnings.
 template <int DIM>
 bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& probePoints, vtkPointData* pd, vtkFieldData* fd,
-  const PointEstimateRun& run, PointEstimateSummary& result)
+  const std::vector<std::array<double, 3>>& probePoints, EstimateArrays& arrays,
+  vtkPointData* pd, vtkFieldData* fd, const PointEstimateRun& run, PointEstimateSummary& result)
 {
   const Problem<DIM>& problem = built.Get<DIM>();
   const bool mixed = problem.GetMixedBoundary() != nullptr;
@@ -404,7 +409,6 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   const auto numPoints = static_cast<vtkIdType>(probePoints.size());
 
   const DerivativeRequest derivatives = DerivativesOf(s, nc, mixed);
-  EstimateArrays arrays;
   arrays.Allocate(name, nc, numPoints, built.Biharmonic, derivatives);
   FillBoundaryArrays<DIM>(problem, points, arrays);
 
@@ -438,7 +442,14 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
   result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
-  arrays.AddTo(pd, target > 0.0 || !summary.Completed);
+  if (pd)
+  {
+    arrays.AddTo(pd, target > 0.0 || !summary.Completed);
+  }
+  else
+  {
+    arrays.Finish();
+  }
 
   BatchFindings found;
   found.Name = name;
@@ -513,9 +524,20 @@ bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
   PointEstimateSummary& summary)
 {
+  EstimateArrays estimates;
   summary = PointEstimateSummary();
   return problem.Dimension == 2
-    ? Estimate<2>(reporter, problem, settings, points, arrays, fieldData, run, summary)
-    : Estimate<3>(reporter, problem, settings, points, arrays, fieldData, run, summary);
+    ? Estimate<2>(reporter, problem, settings, points, estimates, arrays, fieldData, run, summary)
+    : Estimate<3>(reporter, problem, settings, points, estimates, arrays, fieldData, run, summary);
+}
+
+bool EstimateNumbersAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
+  const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
+  EstimateArrays& estimates, const PointEstimateRun& run, PointEstimateSummary& summary)
+{
+  summary = PointEstimateSummary();
+  return problem.Dimension == 2
+    ? Estimate<2>(reporter, problem, settings, points, estimates, nullptr, nullptr, run, summary)
+    : Estimate<3>(reporter, problem, settings, points, estimates, nullptr, nullptr, run, summary);
 }
 } // namespace gridfree

@@ -29,6 +29,7 @@ namespace gridfree
 {
 class RunningSumsCache;
 struct BuiltProblem;
+struct EstimateArrays;
 struct SolveSettings;
 
 struct PointEstimateRun
@@ -80,6 +81,13 @@ bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
   vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
   PointEstimateSummary& summary);
+
+// The same batch for a filter that uses the numbers itself (the stream
+// tracer): they stay in `estimates` (GridFreeEstimateArrays.h, read by
+// member, not by name), named after the boundary array, and go to no output.
+bool EstimateNumbersAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
+  const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
+  EstimateArrays& estimates, const PointEstimateRun& run, PointEstimateSummary& summary);
 } // namespace gridfree
 
 #endif

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <functional>
 #include <string>
 
 struct vtkWalkOnSpheresSolverDriver::Internals
@@ -205,8 +206,12 @@ bool vtkWalkOnSpheresSolverDriver::BuildProblem(
     0, this->GetSettings(), gridfree::ArraySelections::Of(this), data, state.Problem);
 }
 
-bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<double, 3>>& points,
-  vtkPointData* arrays, double progress, double& seconds, vtkIdType& walks)
+// One batch at `points`, by `estimate` (into arrays or numbers), with
+// this filter's progress and its distinct warnings kept for ReportWarnings.
+bool vtkWalkOnSpheresSolverDriver::RunBatch(
+  const std::function<bool(const gridfree::PointEstimateRun&, gridfree::PointEstimateSummary&)>&
+    estimate,
+  double progress, double& seconds, vtkIdType& walks)
 {
   Internals& state = *this->Internal;
   gridfree::PointEstimateRun run;
@@ -222,8 +227,7 @@ bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<doubl
   bool completed = false;
   try
   {
-    completed = gridfree::EstimateAtPoints(
-      this, state.Problem, this->GetSettings(), points, arrays, nullptr, run, summary);
+    completed = estimate(run, summary);
   }
   catch (const std::exception& e)
   {
@@ -233,6 +237,29 @@ bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<doubl
   seconds += summary.Seconds;
   walks += static_cast<vtkIdType>(summary.WalksRun);
   return completed;
+}
+
+bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<double, 3>>& points,
+  vtkPointData* arrays, double progress, double& seconds, vtkIdType& walks)
+{
+  return this->RunBatch(
+    [&](const gridfree::PointEstimateRun& run, gridfree::PointEstimateSummary& summary) {
+      return gridfree::EstimateAtPoints(this, this->Internal->Problem, this->GetSettings(),
+        points, arrays, nullptr, run, summary);
+    },
+    progress, seconds, walks);
+}
+
+bool vtkWalkOnSpheresSolverDriver::EstimateNumbersAt(
+  const std::vector<std::array<double, 3>>& points, gridfree::EstimateArrays& estimates,
+  double progress, double& seconds, vtkIdType& walks)
+{
+  return this->RunBatch(
+    [&](const gridfree::PointEstimateRun& run, gridfree::PointEstimateSummary& summary) {
+      return gridfree::EstimateNumbersAtPoints(
+        this, this->Internal->Problem, this->GetSettings(), points, estimates, run, summary);
+    },
+    progress, seconds, walks);
 }
 
 bool vtkWalkOnSpheresSolverDriver::GetEstimateFailed()

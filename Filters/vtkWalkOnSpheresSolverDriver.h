@@ -24,6 +24,7 @@
 #include "vtkWalkOnSpheresAlgorithm.h"
 
 #include <array>   // for std::array
+#include <functional> // for std::function
 #include <memory>  // for std::unique_ptr
 #include <vector>  // for std::vector
 
@@ -33,6 +34,12 @@ class vtkDataSet;
 class vtkImplicitFunction;
 class vtkPointData;
 class vtkPolyData;
+namespace gridfree
+{
+struct EstimateArrays;
+struct PointEstimateRun;
+struct PointEstimateSummary;
+}
 
 class GRIDFREEFILTERS_EXPORT vtkWalkOnSpheresSolverDriver : public vtkWalkOnSpheresAlgorithm
 {
@@ -158,6 +165,10 @@ protected:
   // `arrays` may then lack the solution arrays).
   bool EstimateAt(const std::vector<std::array<double, 3>>& points, vtkPointData* arrays,
     double progress, double& seconds, vtkIdType& walks);
+  // The same batch for a subclass that uses the numbers itself: they stay in
+  // `estimates` (read by member, not by name) and go to no output.
+  bool EstimateNumbersAt(const std::vector<std::array<double, 3>>& points,
+    gridfree::EstimateArrays& estimates, double progress, double& seconds, vtkIdType& walks);
   // Whether a batch of this execution failed (BuildProblem resets it).
   bool GetEstimateFailed();
 
@@ -170,6 +181,9 @@ protected:
 
 private:
   vtkWalkOnSpheresSolverDriver(const vtkWalkOnSpheresSolverDriver&) = delete;
+  bool RunBatch(const std::function<bool(const gridfree::PointEstimateRun&,
+                  gridfree::PointEstimateSummary&)>& estimate,
+    double progress, double& seconds, vtkIdType& walks);
   void operator=(const vtkWalkOnSpheresSolverDriver&) = delete;
 
   struct Internals;

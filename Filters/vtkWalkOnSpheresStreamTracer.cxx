@@ -1,6 +1,7 @@
 #include "vtkWalkOnSpheresStreamTracer.h"
 
 #include "GridFreeArrays.h"
+#include "GridFreeEstimateArrays.h"
 
 #include <gridfree/applications/LockstepStreamlines.h>
 
@@ -168,35 +169,35 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   double seconds = 0.0;
   vtkIdType walks = 0;
 
-  // Estimates at `points` (one batch for all of them); false when aborted.
+  // Estimates at `points` (one batch for all of them), taken as numbers from
+  // the batch: the first component's value and gradient with their
+  // variances, the derivative status and the distance to the boundary.
+  // False when aborted or when the batch failed (reported).
   auto estimate = [&](const std::vector<Point>& points, std::vector<Estimate>& out) {
-    vtkNew<vtkPointData> pd;
-    const bool completed = this->EstimateAt(points, pd, progress, seconds, walks);
+    gridfree::EstimateArrays found;
+    const bool completed = this->EstimateNumbersAt(points, found, progress, seconds, walks);
     this->LastNumberOfEstimates += static_cast<vtkIdType>(points.size());
-    vtkDataArray* value = pd->GetArray(valueName.c_str());
-    vtkDataArray* gradient = pd->GetArray((valueName + "_Gradient").c_str());
-    vtkDataArray* valueVariance = pd->GetArray((valueName + "_Variance").c_str());
-    vtkDataArray* gradientVariance = pd->GetArray((valueName + "_Gradient_Variance").c_str());
-    vtkDataArray* status = pd->GetArray("DerivativeStatus");
-    vtkDataArray* distance = pd->GetArray("BoundaryDistance");
-    if (!value || !gradient || !valueVariance || !gradientVariance || !status || !distance)
+    const gridfree::DerivativeArrays& derivatives = found.Derivatives;
+    if (!found.Mean || !derivatives.Gradient || !derivatives.GradientVariance ||
+      !derivatives.Status)
     {
       return false; // the batch failed (reported)
     }
+    const int nc = found.Components;
     out.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
     {
       const auto id = static_cast<vtkIdType>(i);
       Estimate& e = out[i];
-      e.Value = value->GetComponent(id, 0);
-      e.ValueVariance = valueVariance->GetComponent(id, 0);
+      e.Value = found.Mean->GetValue(id * nc);
+      e.ValueVariance = found.Variance->GetValue(id * nc);
       for (int k = 0; k < 3; ++k)
       {
-        e.Gradient[k] = gradient->GetComponent(id, k);
-        e.GradientVariance[k] = gradientVariance->GetComponent(id, k);
+        e.Gradient[k] = derivatives.Gradient->GetTypedComponent(id, k);
+        e.GradientVariance[k] = derivatives.GradientVariance->GetTypedComponent(id, k);
       }
-      e.NearBoundary = status->GetComponent(id, 0) != 0.0;
-      e.Distance = distance->GetComponent(id, 0);
+      e.NearBoundary = derivatives.Status->GetValue(id) != 0;
+      e.Distance = found.Distance->GetValue(id);
       e.Valid = std::isfinite(e.Value);
     }
     return completed;
