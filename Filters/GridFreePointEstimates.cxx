@@ -522,9 +522,10 @@ std::vector<std::array<double, 3>> PointsOf(vtkDataSet* data)
 bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
   vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
-  PointEstimateSummary& summary)
+  PointEstimateSummary& summary, EstimateArrays* keep)
 {
-  EstimateArrays estimates;
+  EstimateArrays local;
+  EstimateArrays& estimates = keep ? *keep : local;
   summary = PointEstimateSummary();
   return problem.Dimension == 2
     ? Estimate<2>(reporter, problem, settings, points, estimates, arrays, fieldData, run, summary)

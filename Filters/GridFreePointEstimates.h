@@ -76,11 +76,12 @@ std::vector<std::array<double, 3>> PointsOf(vtkDataSet* data);
 
 // Estimates at `points` with `settings`' walks, seed, threads and
 // derivatives, and adds the arrays to `arrays` (and the summary to
-// `fieldData`, unless null). False when aborted.
+// `fieldData`, unless null); `keep`, when given, holds them too, to be read
+// by member. False when aborted.
 bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
   vtkPointData* arrays, vtkFieldData* fieldData, const PointEstimateRun& run,
-  PointEstimateSummary& summary);
+  PointEstimateSummary& summary, EstimateArrays* keep = nullptr);
 
 // The same batch for a filter that uses the numbers itself (the stream
 // tracer): they stay in `estimates` (GridFreeEstimateArrays.h, read by

@@ -1,7 +1,7 @@
 #include "vtkWalkOnSpheresAdaptiveSampler.h"
 
 #include "GridFreeArrays.h"
-
+#include "GridFreeEstimateArrays.h"
 
 #include <gridfree/applications/AdaptiveSampling.h>
 #include "GridFreeVisibleNeighbours.h"
@@ -140,20 +140,23 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
     {
       points[i] = candidates[static_cast<std::size_t>(ids[i])];
     }
+    // The batch's arrays go to the samples' output as they are; the numbers
+    // the refinement needs are read from them by member.
     vtkNew<vtkPointData> pd;
+    gridfree::EstimateArrays found;
     double seconds = 0.0;
-    const bool completed =
-      this->EstimateAt(points, pd, this->GetProgress(), seconds, this->LastNumberOfWalks);
+    const bool completed = this->EstimateAt(
+      points, pd, this->GetProgress(), seconds, this->LastNumberOfWalks, &found);
     solveSeconds += seconds;
     if (!completed)
     {
       return false;
     }
     const std::string name = this->GetSolutionName();
-    vtkDataArray* value = pd->GetArray(name.c_str());
-    vtkDataArray* gradient = pd->GetArray((name + "_Gradient").c_str());
-    vtkDataArray* variance = pd->GetArray((name + "_Variance").c_str());
-    vtkDataArray* gradientVariance = pd->GetArray((name + "_Gradient_Variance").c_str());
+    vtkDataArray* value = found.Mean;
+    vtkDataArray* gradient = found.Derivatives.Gradient;
+    vtkDataArray* variance = found.Variance;
+    vtkDataArray* gradientVariance = found.Derivatives.GradientVariance;
     const int nc = value->GetNumberOfComponents();
     if (samples.Size() == 0)
     {

@@ -18,6 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "GridFreeArraySelection.h"
+#include "GridFreeEstimateArrays.h"
 #include "GridFreeSolveSettings.h"
 
 #include <algorithm>
@@ -232,16 +233,27 @@ int vtkWalkOnSpheresCrossField::RequestData(
   encoded->SetLines(lines);
   encoded->GetCellData()->AddArray(nu4);
 
-  // One solve of ψ and ∇ψ at `where`, with `walks` walks per point.
-  auto solve = [&](vtkDataSet* where, int walks, double begin, double end,
-                 vtkSmartPointer<vtkDataSet>& result) {
+  // One solve of ψ and ∇ψ at `where`, with `walks` walks per point: as the
+  // probe's arrays, or as numbers for the singularity search.
+  gridfree::ArraySelections psiArrays;
+  psiArrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
+  auto settingsFor = [&](int walks) {
     gridfree::SolveSettings settings = this->SamplingSettings();
     settings.WalksPerPoint = std::max(walks, 2);
     settings.ComputeGradient = true;
-    gridfree::ArraySelections arrays;
-    arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
+    return settings;
+  };
+  auto solve = [&](vtkDataSet* where, int walks, double begin, double end,
+                 vtkSmartPointer<vtkDataSet>& result) {
     bool aborted = false;
-    return this->Solve(settings, arrays, encoded, nullptr, where, begin, end, result, aborted);
+    return this->Solve(
+      settingsFor(walks), psiArrays, encoded, nullptr, where, begin, end, result, aborted);
+  };
+  auto solveNumbers = [&](vtkDataSet* where, int walks, double begin, double end,
+                        gridfree::EstimateArrays& found) {
+    bool aborted = false;
+    return this->SolveNumbers(
+      settingsFor(walks), psiArrays, encoded, nullptr, where, begin, end, found, aborted);
   };
 
   // The probe: ψ and the four directions.
@@ -307,20 +319,18 @@ int vtkWalkOnSpheresCrossField::RequestData(
       vtkNew<vtkPolyData> batch;
       batch->SetPoints(batchPoints);
       const double next = progress + 0.05 * (phaseEnd - progress);
-      vtkSmartPointer<vtkDataSet> result;
-      if (!solve(batch, this->SearchWalksPerPoint, progress, next, result))
+      // ψ (two components) with its gradient and variance, and the distance
+      // to the boundary, as numbers from the batch.
+      gridfree::EstimateArrays found;
+      if (!solveNumbers(batch, this->SearchWalksPerPoint, progress, next, found))
       {
         failed = true;
         return false;
       }
       progress = next;
       this->LastNumberOfEstimates += static_cast<vtkIdType>(where.size());
-      vtkPointData* pd = result->GetPointData();
-      vtkDataArray* psi = pd->GetArray(kPsi);
-      vtkDataArray* variance = pd->GetArray((std::string(kPsi) + "_Variance").c_str());
-      vtkDataArray* gradient = pd->GetArray((std::string(kPsi) + "_Gradient").c_str());
-      vtkDataArray* distance = pd->GetArray("BoundaryDistance");
-      if (!psi || !variance || !gradient || !distance)
+      const vtkDoubleArray* gradient = found.Derivatives.Gradient;
+      if (!found.Mean || found.Components != 2 || !gradient)
       {
         failed = true;
         return false;
@@ -330,11 +340,13 @@ int vtkWalkOnSpheresCrossField::RequestData(
       {
         const vtkIdType id = static_cast<vtkIdType>(i);
         gridfree::CrossFieldSample& s = out[i];
-        s.Psi = std::complex<double>(psi->GetComponent(id, 0), psi->GetComponent(id, 1));
-        s.GradRe = gridfree::Vec2(gradient->GetComponent(id, 0), gradient->GetComponent(id, 1));
-        s.GradIm = gridfree::Vec2(gradient->GetComponent(id, 3), gradient->GetComponent(id, 4));
-        s.PsiVariance = variance->GetComponent(id, 0) + variance->GetComponent(id, 1);
-        s.BoundaryDistance = distance->GetComponent(id, 0);
+        s.Psi = std::complex<double>(found.Mean->GetValue(2 * id), found.Mean->GetValue(2 * id + 1));
+        s.GradRe = gridfree::Vec2(
+          gradient->GetTypedComponent(id, 0), gradient->GetTypedComponent(id, 1));
+        s.GradIm = gridfree::Vec2(
+          gradient->GetTypedComponent(id, 3), gradient->GetTypedComponent(id, 4));
+        s.PsiVariance = found.Variance->GetValue(2 * id) + found.Variance->GetValue(2 * id + 1);
+        s.BoundaryDistance = found.Distance->GetValue(id);
         s.Valid = Inside(segments, where[i]);
       }
       return true;

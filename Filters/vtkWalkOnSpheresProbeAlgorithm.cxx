@@ -160,10 +160,10 @@ gridfree::SolveSettings vtkWalkOnSpheresProbeAlgorithm::SamplingSettings() const
   return this->GetSettings();
 }
 
-bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settings,
+bool vtkWalkOnSpheresProbeAlgorithm::RunSolve(const gridfree::SolveSettings& settings,
   const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
-  vtkDataSet* probe, double begin, double end, vtkSmartPointer<vtkDataSet>& result,
-  bool& aborted, int problemNumber)
+  vtkDataSet* probe, double begin, double end, bool& aborted, int problemNumber,
+  const BatchRunner& estimate)
 {
   aborted = false;
   gridfree::ProblemData data;
@@ -176,13 +176,6 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   {
     return false;
   }
-
-  // The probe with the solution arrays, as vtkWalkOnSpheresSolver's output.
-  result.TakeReference(probe->NewInstance());
-  result->CopyStructure(probe);
-  result->GetPointData()->PassData(probe->GetPointData());
-  result->GetCellData()->PassData(probe->GetCellData());
-  result->GetFieldData()->PassData(probe->GetFieldData());
   const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);
   std::vector<std::string> warnings;
   gridfree::PointEstimateRun run;
@@ -199,8 +192,7 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   bool completed = false;
   try
   {
-    completed = gridfree::EstimateAtPoints(this, problem, settings, points,
-      result->GetPointData(), result->GetFieldData(), run, summary);
+    completed = estimate(problem, points, run, summary);
   }
   catch (const std::exception& e)
   {
@@ -215,6 +207,40 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
   }
   aborted = !completed || this->CheckAbort();
   return !aborted;
+}
+
+bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settings,
+  const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
+  vtkDataSet* probe, double begin, double end, vtkSmartPointer<vtkDataSet>& result,
+  bool& aborted, int problemNumber)
+{
+  return this->RunSolve(settings, arrays, boundary, source, probe, begin, end, aborted,
+    problemNumber,
+    [&](const gridfree::BuiltProblem& problem, const std::vector<std::array<double, 3>>& points,
+      const gridfree::PointEstimateRun& run, gridfree::PointEstimateSummary& summary) {
+      // The probe with the solution arrays, as vtkWalkOnSpheresSolver's output.
+      result.TakeReference(probe->NewInstance());
+      result->CopyStructure(probe);
+      result->GetPointData()->PassData(probe->GetPointData());
+      result->GetCellData()->PassData(probe->GetCellData());
+      result->GetFieldData()->PassData(probe->GetFieldData());
+      return gridfree::EstimateAtPoints(this, problem, settings, points, result->GetPointData(),
+        result->GetFieldData(), run, summary);
+    });
+}
+
+bool vtkWalkOnSpheresProbeAlgorithm::SolveNumbers(const gridfree::SolveSettings& settings,
+  const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
+  vtkDataSet* where, double begin, double end, gridfree::EstimateArrays& found, bool& aborted,
+  int problemNumber)
+{
+  return this->RunSolve(settings, arrays, boundary, source, where, begin, end, aborted,
+    problemNumber,
+    [&](const gridfree::BuiltProblem& problem, const std::vector<std::array<double, 3>>& points,
+      const gridfree::PointEstimateRun& run, gridfree::PointEstimateSummary& summary) {
+      return gridfree::EstimateNumbersAtPoints(this, problem, settings, points, found, run,
+        summary);
+    });
 }
 
 void vtkWalkOnSpheresProbeAlgorithm::AddSummary(vtkDataObject* output)

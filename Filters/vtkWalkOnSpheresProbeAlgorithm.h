@@ -28,7 +28,10 @@
 #include "vtkWalkOnSpheresAlgorithm.h"
 #include "vtkSmartPointer.h"         // for vtkSmartPointer
 
+#include <array>      // for std::array
+#include <functional> // for std::function
 #include <string>
+#include <vector>     // for std::vector
 
 class vtkAlgorithmOutput;
 class vtkDataObject;
@@ -36,6 +39,10 @@ class vtkDataSet;
 namespace gridfree
 {
 struct ArraySelections;
+struct BuiltProblem;
+struct EstimateArrays;
+struct PointEstimateRun;
+struct PointEstimateSummary;
 struct SolveSettings;
 }
 
@@ -100,6 +107,13 @@ protected:
   bool Solve(const gridfree::SolveSettings& settings, const gridfree::ArraySelections& arrays,
     vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* probe, double begin, double end,
     vtkSmartPointer<vtkDataSet>& result, bool& aborted, int problem = 0);
+  // The same solve for a subclass that uses the numbers itself: they stay in
+  // `found` (GridFreeEstimateArrays.h, read by member, not by name), and no
+  // copy of `where` is made.
+  bool SolveNumbers(const gridfree::SolveSettings& settings,
+    const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
+    vtkDataSet* where, double begin, double end, gridfree::EstimateArrays& found, bool& aborted,
+    int problem = 0);
 
   // Adds the Last... counters to `output`'s field data (TotalWalks,
   // SolveSeconds).
@@ -111,6 +125,16 @@ protected:
 private:
   vtkWalkOnSpheresProbeAlgorithm(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
   void operator=(const vtkWalkOnSpheresProbeAlgorithm&) = delete;
+
+  // A solve's batch at its points, given the built problem.
+  using BatchRunner = std::function<bool(const gridfree::BuiltProblem&,
+    const std::vector<std::array<double, 3>>&, const gridfree::PointEstimateRun&,
+    gridfree::PointEstimateSummary&)>;
+  // Builds (or reuses) problem number `problem` and runs `estimate` with this
+  // filter's progress range, counters and warnings.
+  bool RunSolve(const gridfree::SolveSettings& settings, const gridfree::ArraySelections& arrays,
+    vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* probe, double begin, double end,
+    bool& aborted, int problem, const BatchRunner& estimate);
 
 };
 

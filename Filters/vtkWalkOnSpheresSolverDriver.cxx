@@ -240,12 +240,13 @@ bool vtkWalkOnSpheresSolverDriver::RunBatch(
 }
 
 bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<double, 3>>& points,
-  vtkPointData* arrays, double progress, double& seconds, vtkIdType& walks)
+  vtkPointData* arrays, double progress, double& seconds, vtkIdType& walks,
+  gridfree::EstimateArrays* found)
 {
   return this->RunBatch(
     [&](const gridfree::PointEstimateRun& run, gridfree::PointEstimateSummary& summary) {
       return gridfree::EstimateAtPoints(this, this->Internal->Problem, this->GetSettings(),
-        points, arrays, nullptr, run, summary);
+        points, arrays, nullptr, run, summary, found);
     },
     progress, seconds, walks);
 }

@@ -160,11 +160,13 @@ protected:
   // Estimates the value and gradient at `points` with the built problem
   // and adds the arrays (named as vtkWalkOnSpheresSolver's output) to
   // `arrays`; progress stays at `progress`. Walks and seconds are added to
-  // `walks` and `seconds`. False when aborted, or when the batch failed
+  // `walks` and `seconds`; `found`, when given, holds the arrays too, to be
+  // read by member. False when aborted, or when the batch failed
   // (reported as this filter's error; GetEstimateFailed() tells, and
   // `arrays` may then lack the solution arrays).
   bool EstimateAt(const std::vector<std::array<double, 3>>& points, vtkPointData* arrays,
-    double progress, double& seconds, vtkIdType& walks);
+    double progress, double& seconds, vtkIdType& walks,
+    gridfree::EstimateArrays* found = nullptr);
   // The same batch for a subclass that uses the numbers itself: they stay in
   // `estimates` (read by member, not by name) and go to no output.
   bool EstimateNumbersAt(const std::vector<std::array<double, 3>>& points,
