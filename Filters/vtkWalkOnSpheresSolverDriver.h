@@ -117,8 +117,8 @@ public:
   /**
    * The gradient's variance reduction (those of vtkWalkOnSpheresSolver):
    * ControlVariates (default on) and AntitheticPairs (default off). The
-   * sampling settings (walks, default 128, ε, steps, seed, threads) are
-   * vtkWalkOnSpheresAlgorithm's.
+   * sampling settings (walks: 128 by default, 1024 for the stream tracer;
+   * ε, steps, seed, threads) are vtkWalkOnSpheresAlgorithm's.
    */
   void SetControlVariates(bool on);
   bool GetControlVariates();
