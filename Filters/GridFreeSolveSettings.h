@@ -1,8 +1,7 @@
 // Every setting of a walk-on-spheres solve, in one place: what shapes the
 // boundary and the equation, how the walks sample it, and which derivatives
-// are estimated. vtkWalkOnSpheresSolver fills one from its properties; the
-// filters that estimate at points of their own (stream tracer, adaptive
-// sampler, the applications) fill one from theirs, so that every filter
+// are estimated. Every filter keeps one (vtkWalkOnSpheresAlgorithm's
+// GetSettings()) as the one home of its properties, so that every filter
 // builds its problem (GridFreeProblemBuilder) and runs its batches
 // (GridFreePointEstimates) the same way. The choices are the core's typed
 // enumerations; the filters' integer properties (vtkWalkOnSpheresSolver's

@@ -238,7 +238,9 @@ int vtkWalkOnSpheresCrossField::RequestData(
   gridfree::ArraySelections psiArrays;
   psiArrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_CELLS, kPsi);
   auto settingsFor = [&](int walks) {
-    gridfree::SolveSettings settings = this->SamplingSettings();
+    // The properties this filter keeps (the sampling settings and its own),
+    // the solver's defaults for the rest; the solve's own choices below.
+    gridfree::SolveSettings settings = this->GetSettings();
     settings.WalksPerPoint = std::max(walks, 2);
     settings.ComputeGradient = true;
     return settings;

@@ -262,7 +262,9 @@ int vtkWalkOnSpheresDeformation::RequestData(
   vtkSmartPointer<vtkDataSet> solved;
   if (insidePoints->GetNumberOfPoints() > 0)
   {
-    gridfree::SolveSettings settings = this->SamplingSettings();
+    // The properties this filter keeps (the sampling settings and its own),
+    // the solver's defaults for the rest; the solve's own choices below.
+    gridfree::SolveSettings settings = this->GetSettings();
     settings.Equation = gridfree::Equation::Biharmonic;
     gridfree::ArraySelections arrays;
     arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, kMap);

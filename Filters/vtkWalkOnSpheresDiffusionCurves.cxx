@@ -14,6 +14,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 #include "GridFreeArraySelection.h"
+#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 
 #include <algorithm>
@@ -21,6 +22,7 @@
 #include <string>
 
 vtkStandardNewMacro(vtkWalkOnSpheresDiffusionCurves);
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresDiffusionCurves, SourceExpression)
 
 namespace
 {
@@ -64,10 +66,7 @@ vtkWalkOnSpheresDiffusionCurves::vtkWalkOnSpheresDiffusionCurves()
     1, BoundaryPort, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS, "BackColor");
 }
 
-vtkWalkOnSpheresDiffusionCurves::~vtkWalkOnSpheresDiffusionCurves()
-{
-  this->SetSourceExpression(nullptr);
-}
+vtkWalkOnSpheresDiffusionCurves::~vtkWalkOnSpheresDiffusionCurves() = default;
 
 void vtkWalkOnSpheresDiffusionCurves::SetSourceConnection(vtkAlgorithmOutput* output)
 {
@@ -239,12 +238,15 @@ int vtkWalkOnSpheresDiffusionCurves::RequestData(
     points = image;
   }
 
-  gridfree::SolveSettings settings = this->SamplingSettings();
+  // The properties this filter keeps (the sampling settings and its own),
+  // the solver's defaults for the rest; the solve's own choices below.
+  gridfree::SolveSettings settings = this->GetSettings();
   settings.TwoSidedBoundaryValues = true;
   gridfree::ArraySelections arrays;
   arrays.Select(0, frontAssociation, front->GetName());
   arrays.Select(3, backAssociation, back->GetName());
-  const bool hasExpression = this->SourceExpression && *this->SourceExpression;
+  // (The settings carry the SourceExpression property.)
+  const bool hasExpression = !settings.SourceExpression.empty();
   if (source || hasExpression)
   {
     settings.Equation = gridfree::Equation::Poisson;
@@ -258,10 +260,6 @@ int vtkWalkOnSpheresDiffusionCurves::RequestData(
             info->Get(vtkDataObject::FIELD_NAME()));
         }
       }
-    }
-    if (hasExpression)
-    {
-      settings.SourceExpression = this->SourceExpression;
     }
   }
   bool aborted = false;
@@ -293,7 +291,9 @@ void vtkWalkOnSpheresDiffusionCurves::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SourceExpression: "
-     << (this->SourceExpression ? this->SourceExpression : "(none)") << "\n";
+     << (this->GetSettings().SourceExpression.empty() ? "(none)"
+                                                        : this->GetSettings().SourceExpression)
+     << "\n";
   os << indent << "ImageWindow: " << this->ImageWindow[0] << ", " << this->ImageWindow[1] << ", "
      << this->ImageWindow[2] << ", " << this->ImageWindow[3] << "\n";
   os << indent << "ImageResolution: " << this->ImageResolution[0] << " x "

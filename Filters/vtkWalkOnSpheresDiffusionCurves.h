@@ -81,8 +81,8 @@ public:
    * the syntax of vtkWalkOnSpheresSolver::SourceExpression; a vector
    * (iHat, jHat, kHat) gives one source per colour component.
    */
-  vtkSetStringMacro(SourceExpression);
-  vtkGetStringMacro(SourceExpression);
+  virtual void SetSourceExpression(const char* expression); // null clears it
+  const char* GetSourceExpression();
   ///@}
 
   ///@{
@@ -127,7 +127,6 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  char* SourceExpression = nullptr;
   double ImageWindow[4] = { 0.0, 0.0, 0.0, 0.0 };
   int ImageResolution[2] = { 256, 256 };
   double ColorRange[2] = { 0.0, 1.0 };

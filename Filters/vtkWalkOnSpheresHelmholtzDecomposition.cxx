@@ -14,12 +14,15 @@
 #include "vtkProbeFilter.h"
 #include "vtkSmartPointer.h"
 #include "GridFreeArraySelection.h"
+#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 
 #include <cstdint>
 #include <string>
 
 vtkStandardNewMacro(vtkWalkOnSpheresHelmholtzDecomposition);
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresHelmholtzDecomposition, ControlVariates, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresHelmholtzDecomposition, AntitheticPairs, bool, false, true)
 
 namespace
 {
@@ -157,13 +160,14 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
   // One Poisson solve per potential; `operation` makes its source ∇·X or ∇×X.
   auto solve = [&](const char* potential, gridfree::SourceOperator operation, int seed, double begin, double end,
                  vtkSmartPointer<vtkDataSet>& result) {
-    gridfree::SolveSettings settings = this->SamplingSettings();
+    // The properties this filter keeps (the sampling settings and its own),
+    // the solver's defaults for the rest; the solve's own choices below.
+    gridfree::SolveSettings settings = this->GetSettings();
     settings.Seed = seed;
     settings.Equation = gridfree::Equation::Poisson;
     settings.SourceOperator = operation;
     settings.ComputeGradient = true;
-    settings.ControlVariates = this->ControlVariates;
-    settings.AntitheticPairs = this->AntitheticPairs;
+    // (ControlVariates and AntitheticPairs: the properties, in the settings.)
     gridfree::ArraySelections arrays;
     arrays.Select(0, vtkDataObject::FIELD_ASSOCIATION_POINTS, potential);
     if (fieldArray)
@@ -329,6 +333,6 @@ void vtkWalkOnSpheresHelmholtzDecomposition::PrintSelf(ostream& os, vtkIndent in
   os << indent << "FieldExpression: " << (this->FieldExpression ? this->FieldExpression : "(none)")
      << "\n";
   os << indent << "FieldName: " << (this->FieldName ? this->FieldName : "(none)") << "\n";
-  os << indent << "ControlVariates: " << this->ControlVariates << "\n";
-  os << indent << "AntitheticPairs: " << this->AntitheticPairs << "\n";
+  os << indent << "ControlVariates: " << this->GetSettings().ControlVariates << "\n";
+  os << indent << "AntitheticPairs: " << this->GetSettings().AntitheticPairs << "\n";
 }

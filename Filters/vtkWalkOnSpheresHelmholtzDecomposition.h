@@ -92,8 +92,8 @@ public:
   /**
    * Control variates for the gradients (paper Sec. 4.1; default on).
    */
-  vtkSetMacro(ControlVariates, bool);
-  vtkGetMacro(ControlVariates, bool);
+  virtual void SetControlVariates(bool value);
+  bool GetControlVariates();
   vtkBooleanMacro(ControlVariates, bool);
   ///@}
 
@@ -102,8 +102,8 @@ public:
    * Antithetic pairs of walks for the gradients (default off; see
    * vtkWalkOnSpheresSolver).
    */
-  vtkSetMacro(AntitheticPairs, bool);
-  vtkGetMacro(AntitheticPairs, bool);
+  virtual void SetAntitheticPairs(bool value);
+  bool GetAntitheticPairs();
   vtkBooleanMacro(AntitheticPairs, bool);
   ///@}
 
@@ -117,8 +117,6 @@ protected:
 
   char* FieldExpression = nullptr;
   char* FieldName = nullptr;
-  bool ControlVariates = true;
-  bool AntitheticPairs = false;
 
 private:
   vtkWalkOnSpheresHelmholtzDecomposition(const vtkWalkOnSpheresHelmholtzDecomposition&) = delete;

@@ -155,11 +155,6 @@ int vtkWalkOnSpheresProbeAlgorithm::RequestUpdateExtent(
   return 1;
 }
 
-gridfree::SolveSettings vtkWalkOnSpheresProbeAlgorithm::SamplingSettings() const
-{
-  return this->GetSettings();
-}
-
 bool vtkWalkOnSpheresProbeAlgorithm::RunSolve(const gridfree::SolveSettings& settings,
   const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
   vtkDataSet* probe, double begin, double end, bool& aborted, int problemNumber,

@@ -88,11 +88,6 @@ protected:
   // The probe is split as output 0 is; every other input is needed whole.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  // The settings this filter keeps (its sampling settings: walks, ε, steps,
-  // seed, threads; the solver's defaults for everything else), for a solve
-  // to start from.
-  gridfree::SolveSettings SamplingSettings() const;
-
   // One solve for the subclass, with no internal pipeline: the problem of
   // `boundary` (its arrays chosen by `arrays`) and the optional `source`
   // with `settings`, estimated at `probe`'s points. `result` becomes a copy

@@ -5,6 +5,7 @@
 #include "GridFreePieceGather.h"
 #include "GridFreePointEstimates.h"
 #include "GridFreeProblemBuilder.h"
+#include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 #include "GridFreeSolverCache.h"
 #include "GridFreeTimeBudget.h"
@@ -114,20 +115,30 @@ void vtkWalkOnSpheresSolver::SetWalksPerPoint(int walks)
 void vtkWalkOnSpheresSolver::SetTargetStandardError(double target)
 {
   target = std::isfinite(target) ? std::max(target, 0.0) : 0.0;
-  if (target != this->TargetStandardError)
+  if (target != this->GetSettings().TargetStandardError)
   {
-    this->TargetStandardError = target;
+    this->GetSettings().TargetStandardError = target;
     this->ModifiedKeepingSums();
   }
 }
 
 void vtkWalkOnSpheresSolver::SetTargetErrorIsRelative(bool relative)
 {
-  if (relative != this->TargetErrorIsRelative)
+  if (relative != this->GetSettings().TargetErrorIsRelative)
   {
-    this->TargetErrorIsRelative = relative;
+    this->GetSettings().TargetErrorIsRelative = relative;
     this->ModifiedKeepingSums();
   }
+}
+
+double vtkWalkOnSpheresSolver::GetTargetStandardError()
+{
+  return this->GetSettings().TargetStandardError;
+}
+
+bool vtkWalkOnSpheresSolver::GetTargetErrorIsRelative()
+{
+  return this->GetSettings().TargetErrorIsRelative;
 }
 
 void vtkWalkOnSpheresSolver::Resume()
@@ -164,17 +175,31 @@ bool IsChoice(vtkObject* self, const char* property, int value, int current,
                                 << ".");
   return false;
 }
+
+// The typed choice of an integer code already checked.
+template <typename Choice>
+void AssignCode(Choice& choice, int code)
+{
+  choice = static_cast<Choice>(code);
+}
+
+void AssignCode(std::optional<gridfree::CsgOperation>& operation, int code)
+{
+  operation = gridfree::CsgOperationOfCode(code);
+}
 } // namespace
 
 #define GRIDFREE_CHOICE_SETTER(name, ...)                                                          \
   void vtkWalkOnSpheresSolver::Set##name(int value)                                                \
   {                                                                                                \
-    if (IsChoice(this, #name, value, this->name, { __VA_ARGS__ }) && value != this->name)         \
+    const int current = gridfree::CodeOf(this->GetSettings().name);                               \
+    if (IsChoice(this, #name, value, current, { __VA_ARGS__ }) && value != current)               \
     {                                                                                              \
-      this->name = value;                                                                          \
+      AssignCode(this->GetSettings().name, value);                                                 \
       this->Modified();                                                                            \
     }                                                                                              \
-  }
+  }                                                                                                \
+  int vtkWalkOnSpheresSolver::Get##name() { return gridfree::CodeOf(this->GetSettings().name); }
 GRIDFREE_CHOICE_SETTER(Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic")
 GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
 GRIDFREE_CHOICE_SETTER(
@@ -182,6 +207,48 @@ GRIDFREE_CHOICE_SETTER(
 GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
 GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
 #undef GRIDFREE_CHOICE_SETTER
+
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, TwoSidedBoundaryValues, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, MixedBoundaryConditions, bool, false, true)
+// Unclamped, as before: the problem's check reports a negative coefficient.
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ScreeningCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, NestedWalks, int, 1, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeGradient, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeHessian, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ControlVariates, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, AntitheticPairs, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeDirectionalDerivative, bool, false, true)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryValueExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryLaplacianExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, SourceExpression)
+GRIDFREE_IMPLICIT_BOUNDARY_ACCESSORS(vtkWalkOnSpheresSolver)
+
+void vtkWalkOnSpheresSolver::SetDerivativeDirection(double x, double y, double z)
+{
+  const std::array<double, 3> direction = { x, y, z };
+  if (direction != this->GetSettings().DerivativeDirection)
+  {
+    this->GetSettings().DerivativeDirection = direction;
+    this->Modified();
+  }
+}
+
+void vtkWalkOnSpheresSolver::SetDerivativeDirection(const double direction[3])
+{
+  this->SetDerivativeDirection(direction[0], direction[1], direction[2]);
+}
+
+double* vtkWalkOnSpheresSolver::GetDerivativeDirection()
+{
+  return this->GetSettings().DerivativeDirection.data();
+}
+
+void vtkWalkOnSpheresSolver::GetDerivativeDirection(double direction[3])
+{
+  std::copy_n(this->GetSettings().DerivativeDirection.data(), 3, direction);
+}
 
 void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
 {
@@ -202,13 +269,9 @@ void vtkWalkOnSpheresSolver::Refine()
 
 vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()
 {
-  this->SetSourceExpression(nullptr);
-  this->SetBoundaryValueExpression(nullptr);
-  this->SetBoundaryLaplacianExpression(nullptr);
   this->SetImplicitBoundary(nullptr);
 }
 
-vtkCxxSetObjectMacro(vtkWalkOnSpheresSolver, ImplicitBoundary, vtkImplicitFunction);
 bool vtkWalkOnSpheresSolver::GatherInputs(
   vtkDataObject* boundary, vtkDataObject* source, vtkWalkOnSpheresSolverPieces& pieces)
 {
@@ -227,9 +290,9 @@ void vtkWalkOnSpheresSolver::RequestSharedInput(vtkInformation* info)
 vtkMTimeType vtkWalkOnSpheresSolver::GetMTime()
 {
   vtkMTimeType time = this->Superclass::GetMTime();
-  if (this->ImplicitBoundary)
+  if (vtkImplicitFunction* implicit = this->GetSettings().ImplicitBoundary)
   {
-    time = std::max(time, this->ImplicitBoundary->GetMTime());
+    time = std::max(time, implicit->GetMTime());
   }
   return time;
 }
@@ -405,40 +468,6 @@ static_assert(vtkWalkOnSpheresSolver::TREE_WALKING ==
   vtkWalkOnSpheresSolver::NESTED == static_cast<int>(gridfree::BiharmonicStrategy::Nested));
 
 //------------------------------------------------------------------------------
-// Every setting of the solve, from the properties.
-gridfree::SolveSettings vtkWalkOnSpheresSolver::CurrentSettings() const
-{
-  // The sampling settings the base keeps, the rest from the properties.
-  gridfree::SolveSettings s = this->GetSettings();
-  s.ImplicitBoundary = this->ImplicitBoundary;
-  s.LipschitzBound = this->LipschitzBound;
-  s.CsgOperation = gridfree::CsgOperationOfCode(this->CsgOperation);
-  s.CsgBlendRadius = this->CsgBlendRadius;
-  s.BoundaryValueExpression = this->BoundaryValueExpression ? this->BoundaryValueExpression : "";
-  s.BoundaryLaplacianExpression =
-    this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "";
-  s.TwoSidedBoundaryValues = this->TwoSidedBoundaryValues;
-  s.MixedBoundaryConditions = this->MixedBoundaryConditions;
-  s.Equation = static_cast<gridfree::Equation>(this->Equation);
-  s.ScreeningCoefficient = this->ScreeningCoefficient;
-  s.SourceExpression = this->SourceExpression ? this->SourceExpression : "";
-  s.SourceSampling = static_cast<gridfree::SourceSampling>(this->SourceSampling);
-  s.SourceOperator = static_cast<gridfree::SourceOperator>(this->SourceOperator);
-  s.BiharmonicStrategy = static_cast<gridfree::BiharmonicStrategy>(this->BiharmonicStrategy);
-  s.NestedWalks = this->NestedWalks;
-  s.TargetStandardError = this->TargetStandardError;
-  s.TargetErrorIsRelative = this->TargetErrorIsRelative;
-  s.ComputeGradient = this->ComputeGradient;
-  s.ComputeHessian = this->ComputeHessian;
-  s.ControlVariates = this->ControlVariates;
-  s.AntitheticPairs = this->AntitheticPairs;
-  s.ComputeDirectionalDerivative = this->ComputeDirectionalDerivative;
-  s.DerivativeDirection = { this->DerivativeDirection[0], this->DerivativeDirection[1],
-    this->DerivativeDirection[2] };
-  return s;
-}
-
-//------------------------------------------------------------------------------
 // The Boundary port's data: its one connection's, or the surfaces of several
 // connections as the blocks of one composite (the probe left out: ParaView's
 // input dialog first puts every selected dataset on the Boundary).
@@ -499,7 +528,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   vtkDataSet* output = vtkDataSet::GetData(outputVector, 0);
 
   // The inputs and settings checked, the arrays resolved.
-  const gridfree::SolveSettings settings = this->CurrentSettings();
+  const gridfree::SolveSettings& settings = this->GetSettings();
   gridfree::ProblemData data;
   data.Boundary = pieces.Boundary.Whole;
   data.BoundaryPiece = boundaryPiece;
@@ -537,7 +566,7 @@ int vtkWalkOnSpheresSolver::RequestData(
   // (Gathered inputs are new objects at each execution: the sums are keyed on
   // this rank's pieces and on the signature of every rank's pieces.)
   const std::array<vtkObject*, 4> used = { boundaryPiece, probe, sourcePiece,
-    this->ImplicitBoundary };
+    this->GetSettings().ImplicitBoundary };
   const std::uint64_t gatheredSignature = pieces.Boundary.Signature ^
     (pieces.Source.Signature * 1099511628211ULL);
   this->Cache->Validate(this->SettingsTime.GetMTime(), used, gatheredSignature);
@@ -615,35 +644,8 @@ int vtkWalkOnSpheresSolver::RequestData(
 void vtkWalkOnSpheresSolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "ImplicitBoundary: " << this->ImplicitBoundary << "\n";
-  os << indent << "LipschitzBound: " << this->LipschitzBound << "\n";
-  os << indent << "CsgOperation: " << this->CsgOperation << "\n";
-  os << indent << "CsgBlendRadius: " << this->CsgBlendRadius << "\n";
-  os << indent << "BoundaryValueExpression: "
-     << (this->BoundaryValueExpression ? this->BoundaryValueExpression : "(none)") << "\n";
-  os << indent << "BoundaryLaplacianExpression: "
-     << (this->BoundaryLaplacianExpression ? this->BoundaryLaplacianExpression : "(none)") << "\n";
-  os << indent << "TwoSidedBoundaryValues: " << this->TwoSidedBoundaryValues << "\n";
-  os << indent << "MixedBoundaryConditions: " << this->MixedBoundaryConditions << "\n";
-  os << indent << "Equation: " << this->Equation << "\n";
-  os << indent << "ScreeningCoefficient: " << this->ScreeningCoefficient << "\n";
-  os << indent << "SourceExpression: "
-     << (this->SourceExpression ? this->SourceExpression : "(none)") << "\n";
-  os << indent << "SourceSampling: " << this->SourceSampling << "\n";
-  os << indent << "SourceOperator: " << this->SourceOperator << "\n";
-  os << indent << "BiharmonicStrategy: " << this->BiharmonicStrategy << "\n";
-  os << indent << "NestedWalks: " << this->NestedWalks << "\n";
-  os << indent << "TargetStandardError: " << this->TargetStandardError << "\n";
-  os << indent << "TargetErrorIsRelative: " << this->TargetErrorIsRelative << "\n";
+  gridfree::PrintProblemSettings(os, indent, this->GetSettings());
   os << indent << "KeepRunningSums: " << (this->KeepRunningSums ? "On" : "Off") << "\n";
-  os << indent << "ComputeGradient: " << (this->ComputeGradient ? "On" : "Off") << "\n";
-  os << indent << "ComputeHessian: " << (this->ComputeHessian ? "On" : "Off") << "\n";
-  os << indent << "ControlVariates: " << (this->ControlVariates ? "On" : "Off") << "\n";
-  os << indent << "AntitheticPairs: " << (this->AntitheticPairs ? "On" : "Off") << "\n";
-  os << indent << "ComputeDirectionalDerivative: "
-     << (this->ComputeDirectionalDerivative ? "On" : "Off") << "\n";
-  os << indent << "DerivativeDirection: " << this->DerivativeDirection[0] << " "
-     << this->DerivativeDirection[1] << " " << this->DerivativeDirection[2] << "\n";
   os << indent << "LastNumberOfWalks: " << this->LastNumberOfWalks << "\n";
   os << indent << "LastResumedWalksPerPoint: " << this->LastResumedWalksPerPoint << "\n";
   os << indent << "LastPointsShortOfTarget: " << this->LastPointsShortOfTarget << "\n";

@@ -170,7 +170,7 @@ public:
    * description.
    */
   void SetImplicitBoundary(vtkImplicitFunction* function);
-  vtkGetObjectMacro(ImplicitBoundary, vtkImplicitFunction);
+  vtkImplicitFunction* GetImplicitBoundary();
   ///@}
 
   /**
@@ -192,7 +192,7 @@ public:
    * The CSG operation of the boundary operands (see CsgOperationType).
    */
   virtual void SetCsgOperation(int value); // a value out of range is an error
-  vtkGetMacro(CsgOperation, int);
+  int GetCsgOperation();
   void SetCsgOperationToNone() { this->SetCsgOperation(CSG_NONE); }
   void SetCsgOperationToUnion() { this->SetCsgOperation(CSG_UNION); }
   void SetCsgOperationToIntersection() { this->SetCsgOperation(CSG_INTERSECTION); }
@@ -205,8 +205,8 @@ public:
    * edges). The blended surface lies within about a quarter of this radius
    * of the sharp one, and the step radius stays a safe distance bound.
    */
-  vtkSetClampMacro(CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(CsgBlendRadius, double);
+  virtual void SetCsgBlendRadius(double value);
+  double GetCsgBlendRadius();
   ///@}
 
   ///@{
@@ -218,8 +218,8 @@ public:
    * on random short segments and warns when it is exceeded. ParaView's
    * Sphere (|x − c|² − r²) needs L = 2r inside the sphere.
    */
-  vtkSetClampMacro(LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX);
-  vtkGetMacro(LipschitzBound, double);
+  virtual void SetLipschitzBound(double value);
+  double GetLipschitzBound();
   ///@}
 
   ///@{
@@ -230,10 +230,10 @@ public:
    * BoundaryLaplacianExpression gives the biharmonic equation's h the same
    * way. The output arrays are then named "Solution".
    */
-  vtkSetStringMacro(BoundaryValueExpression);
-  vtkGetStringMacro(BoundaryValueExpression);
-  vtkSetStringMacro(BoundaryLaplacianExpression);
-  vtkGetStringMacro(BoundaryLaplacianExpression);
+  virtual void SetBoundaryValueExpression(const char* expression); // null clears it
+  const char* GetBoundaryValueExpression();
+  virtual void SetBoundaryLaplacianExpression(const char* expression); // null clears it
+  const char* GetBoundaryLaplacianExpression();
   ///@}
 
   ///@{
@@ -253,8 +253,8 @@ public:
    * implicit, CSG or expression boundary) and an equation other than the
    * biharmonic. The output is named after the front array.
    */
-  vtkSetMacro(TwoSidedBoundaryValues, bool);
-  vtkGetMacro(TwoSidedBoundaryValues, bool);
+  virtual void SetTwoSidedBoundaryValues(bool value);
+  bool GetTwoSidedBoundaryValues();
   vtkBooleanMacro(TwoSidedBoundaryValues, bool);
   ///@}
 
@@ -284,8 +284,8 @@ public:
    * Dirichlet or Robin (or the equation screened). The name "None" for the
    * flux or Robin selection means no array.
    */
-  vtkSetMacro(MixedBoundaryConditions, bool);
-  vtkGetMacro(MixedBoundaryConditions, bool);
+  virtual void SetMixedBoundaryConditions(bool value);
+  bool GetMixedBoundaryConditions();
   vtkBooleanMacro(MixedBoundaryConditions, bool);
   ///@}
 
@@ -302,7 +302,7 @@ public:
    * The equation to solve (default LAPLACE); see the class description.
    */
   virtual void SetEquation(int value); // a value out of range is an error
-  vtkGetMacro(Equation, int);
+  int GetEquation();
   void SetEquationToLaplace() { this->SetEquation(LAPLACE); }
   void SetEquationToPoisson() { this->SetEquation(POISSON); }
   void SetEquationToScreenedPoisson() { this->SetEquation(SCREENED_POISSON); }
@@ -315,8 +315,8 @@ public:
    * squared length units; must be positive). Large c confines the solution
    * to a layer of width about 1/sqrt(c) near the boundary.
    */
-  vtkSetMacro(ScreeningCoefficient, double);
-  vtkGetMacro(ScreeningCoefficient, double);
+  virtual void SetScreeningCoefficient(double value);
+  double GetScreeningCoefficient();
   ///@}
 
   ///@{
@@ -328,8 +328,8 @@ public:
    * "y*iHat - x*jHat") gives one source per component of a 3-component
    * solution, or the vector field X of SourceOperator.
    */
-  vtkSetStringMacro(SourceExpression);
-  vtkGetStringMacro(SourceExpression);
+  virtual void SetSourceExpression(const char* expression); // null clears it
+  const char* GetSourceExpression();
   ///@}
 
   enum SourceOperatorType
@@ -354,7 +354,7 @@ public:
    * Point and curve sources (a vtkPolyData Source) have no operator.
    */
   virtual void SetSourceOperator(int value); // a value out of range is an error
-  vtkGetMacro(SourceOperator, int);
+  int GetSourceOperator();
   void SetSourceOperatorToValue() { this->SetSourceOperator(SOURCE_VALUE); }
   void SetSourceOperatorToDivergence() { this->SetSourceOperator(SOURCE_DIVERGENCE); }
   void SetSourceOperatorToCurl() { this->SetSourceOperator(SOURCE_CURL); }
@@ -381,7 +381,7 @@ public:
    * bars the other three underestimate below a few thousand walks.
    */
   virtual void SetSourceSampling(int value); // a value out of range is an error
-  vtkGetMacro(SourceSampling, int);
+  int GetSourceSampling();
   ///@}
 
   enum BiharmonicStrategyType
@@ -397,9 +397,9 @@ public:
    * Laplace walk; NESTED runs NestedWalks inner walks at every step (Sec. 2.5).
    */
   virtual void SetBiharmonicStrategy(int value); // a value out of range is an error
-  vtkGetMacro(BiharmonicStrategy, int);
-  vtkSetClampMacro(NestedWalks, int, 1, VTK_INT_MAX);
-  vtkGetMacro(NestedWalks, int);
+  int GetBiharmonicStrategy();
+  virtual void SetNestedWalks(int value);
+  int GetNestedWalks();
   ///@}
 
   ///@{
@@ -411,8 +411,8 @@ public:
    * more source sample pair per walk. For a 3-component solution the output
    * also holds `T_Divergence` and `T_Curl` (with their variances).
    */
-  vtkSetMacro(ComputeGradient, bool);
-  vtkGetMacro(ComputeGradient, bool);
+  virtual void SetComputeGradient(bool value);
+  bool GetComputeGradient();
   vtkBooleanMacro(ComputeGradient, bool);
   ///@}
 
@@ -426,8 +426,8 @@ public:
    * the active tensors for a one-component solution so vtkTensorGlyph draws
    * it, and `T_Hessian_Variance`.
    */
-  vtkSetMacro(ComputeHessian, bool);
-  vtkGetMacro(ComputeHessian, bool);
+  virtual void SetComputeHessian(bool value);
+  bool GetComputeHessian();
   vtkBooleanMacro(ComputeHessian, bool);
   ///@}
 
@@ -442,8 +442,8 @@ public:
    * the Poisson problem of the convergence study the gradient's error falls
    * 3.5×, the Hessian's 4.2×, the value's 1.1× at 1024 walks.
    */
-  vtkSetMacro(ControlVariates, bool);
-  vtkGetMacro(ControlVariates, bool);
+  virtual void SetControlVariates(bool value);
+  bool GetControlVariates();
   vtkBooleanMacro(ControlVariates, bool);
   ///@}
 
@@ -457,8 +457,8 @@ public:
    * (1.3× on the CT meshes of the peer benchmark); each sample costs two
    * walks. Values stay unbiased, their variance arrays honest.
    */
-  vtkSetMacro(AntitheticPairs, bool);
-  vtkGetMacro(AntitheticPairs, bool);
+  virtual void SetAntitheticPairs(bool value);
+  bool GetAntitheticPairs();
   vtkBooleanMacro(AntitheticPairs, bool);
   ///@}
 
@@ -469,11 +469,13 @@ public:
    * computed walk by walk so the variance is exact. Z is used as given (not
    * normalized).
    */
-  vtkSetMacro(ComputeDirectionalDerivative, bool);
-  vtkGetMacro(ComputeDirectionalDerivative, bool);
+  virtual void SetComputeDirectionalDerivative(bool value);
+  bool GetComputeDirectionalDerivative();
   vtkBooleanMacro(ComputeDirectionalDerivative, bool);
-  vtkSetVector3Macro(DerivativeDirection, double);
-  vtkGetVector3Macro(DerivativeDirection, double);
+  void SetDerivativeDirection(double x, double y, double z);
+  void SetDerivativeDirection(const double direction[3]);
+  double* GetDerivativeDirection() VTK_SIZEHINT(3);
+  void GetDerivativeDirection(double direction[3]);
   ///@}
 
   ///@{
@@ -515,9 +517,9 @@ public:
    * target solves afresh (a solve with it stops points earlier).
    */
   virtual void SetTargetStandardError(double target);
-  vtkGetMacro(TargetStandardError, double);
+  double GetTargetStandardError();
   virtual void SetTargetErrorIsRelative(bool relative);
-  vtkGetMacro(TargetErrorIsRelative, bool);
+  bool GetTargetErrorIsRelative();
   vtkBooleanMacro(TargetErrorIsRelative, bool);
   ///@}
 
@@ -685,30 +687,6 @@ protected:
    */
   virtual void RequestSharedInput(vtkInformation* info);
 
-  vtkImplicitFunction* ImplicitBoundary = nullptr;
-  double LipschitzBound = 1.0;
-  int CsgOperation = CSG_NONE;
-  double CsgBlendRadius = 0.0;
-  char* BoundaryValueExpression = nullptr;
-  char* BoundaryLaplacianExpression = nullptr;
-  bool TwoSidedBoundaryValues = false;
-  bool MixedBoundaryConditions = false;
-  int Equation = LAPLACE;
-  double ScreeningCoefficient = 1.0;
-  char* SourceExpression = nullptr;
-  int SourceSampling = GREENS_FUNCTION;
-  int SourceOperator = SOURCE_VALUE;
-  int BiharmonicStrategy = TREE_WALKING;
-  int NestedWalks = 1;
-  double TargetStandardError = 0.0;
-  bool TargetErrorIsRelative = false;
-  bool ComputeGradient = false;
-  bool ComputeHessian = false;
-  bool ControlVariates = true;
-  bool AntitheticPairs = false;
-  bool ComputeDirectionalDerivative = false;
-  double DerivativeDirection[3] = { 1.0, 0.0, 0.0 };
-
   bool KeepRunningSums = true;
   // Several Boundary connections as one composite (kept for the execution).
   vtkSmartPointer<vtkMultiBlockDataSet> AssembledBoundary;
@@ -737,8 +715,6 @@ private:
   // Marks the filter modified, keeping the running sums.
   void ModifiedKeepingSums();
 
-  // Every setting of the solve, from the properties.
-  gridfree::SolveSettings CurrentSettings() const;
 };
 
 #endif

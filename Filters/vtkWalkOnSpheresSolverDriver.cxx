@@ -24,7 +24,6 @@
 
 struct vtkWalkOnSpheresSolverDriver::Internals
 {
-  vtkSmartPointer<vtkImplicitFunction> Implicit; // the settings' ImplicitBoundary's owner
   gridfree::BuiltProblem Problem;
   std::vector<std::string> Warnings; // distinct, in order of arrival
   bool EstimateFailed = false;
@@ -39,7 +38,10 @@ vtkWalkOnSpheresSolverDriver::vtkWalkOnSpheresSolverDriver()
   this->GetSettings().ComputeGradient = true;
 }
 
-vtkWalkOnSpheresSolverDriver::~vtkWalkOnSpheresSolverDriver() = default;
+vtkWalkOnSpheresSolverDriver::~vtkWalkOnSpheresSolverDriver()
+{
+  this->SetImplicitBoundary(nullptr);
+}
 
 void vtkWalkOnSpheresSolverDriver::SetBoundaryConnection(vtkAlgorithmOutput* output)
 {
@@ -87,37 +89,10 @@ int vtkWalkOnSpheresSolverDriver::GetCsgOperation()
   return gridfree::CodeOf(this->GetSettings().CsgOperation);
 }
 
-// An expression's setter: null clears it.
-#define GRIDFREE_DRIVER_EXPRESSION(Name)                                                           \
-  void vtkWalkOnSpheresSolverDriver::Set##Name(const char* expression)                             \
-  {                                                                                                \
-    const std::string text = expression ? expression : "";                                         \
-    if (text != this->GetSettings().Name)                                                     \
-    {                                                                                              \
-      this->GetSettings().Name = text;                                                        \
-      this->Modified();                                                                            \
-    }                                                                                              \
-  }
-
-GRIDFREE_DRIVER_EXPRESSION(SourceExpression)
-GRIDFREE_DRIVER_EXPRESSION(BoundaryValueExpression)
-GRIDFREE_DRIVER_EXPRESSION(BoundaryLaplacianExpression)
-#undef GRIDFREE_DRIVER_EXPRESSION
-
-void vtkWalkOnSpheresSolverDriver::SetImplicitBoundary(vtkImplicitFunction* function)
-{
-  if (function != this->Internal->Implicit)
-  {
-    this->Internal->Implicit = function;
-    this->GetSettings().ImplicitBoundary = function;
-    this->Modified();
-  }
-}
-
-vtkImplicitFunction* vtkWalkOnSpheresSolverDriver::GetImplicitBoundary()
-{
-  return this->Internal->Implicit;
-}
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, BoundaryValueExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, BoundaryLaplacianExpression)
+GRIDFREE_IMPLICIT_BOUNDARY_ACCESSORS(vtkWalkOnSpheresSolverDriver)
 
 vtkPolyData* vtkWalkOnSpheresSolverDriver::GetOutput()
 {
@@ -154,9 +129,9 @@ int vtkWalkOnSpheresSolverDriver::RequestDataObject(
 vtkMTimeType vtkWalkOnSpheresSolverDriver::GetMTime()
 {
   vtkMTimeType time = this->Superclass::GetMTime();
-  if (this->Internal->Implicit)
+  if (this->GetSettings().ImplicitBoundary)
   {
-    time = std::max(time, this->Internal->Implicit->GetMTime());
+    time = std::max(time, this->GetSettings().ImplicitBoundary->GetMTime());
   }
   return time;
 }
@@ -291,20 +266,5 @@ void vtkWalkOnSpheresSolverDriver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   const gridfree::SolveSettings& s = this->GetSettings();
-  os << indent << "Equation: " << gridfree::CodeOf(s.Equation) << "\n";
-  os << indent << "ScreeningCoefficient: " << s.ScreeningCoefficient << "\n";
-  os << indent << "SourceExpression: " << s.SourceExpression << "\n";
-  os << indent << "ImplicitBoundary: " << s.ImplicitBoundary << "\n";
-  os << indent << "BoundaryValueExpression: " << s.BoundaryValueExpression << "\n";
-  os << indent << "BoundaryLaplacianExpression: " << s.BoundaryLaplacianExpression << "\n";
-  os << indent << "LipschitzBound: " << s.LipschitzBound << "\n";
-  os << indent << "CsgOperation: " << gridfree::CodeOf(s.CsgOperation) << "\n";
-  os << indent << "CsgBlendRadius: " << s.CsgBlendRadius << "\n";
-  os << indent << "TwoSidedBoundaryValues: " << s.TwoSidedBoundaryValues << "\n";
-  os << indent << "SourceSampling: " << gridfree::CodeOf(s.SourceSampling) << "\n";
-  os << indent << "SourceOperator: " << gridfree::CodeOf(s.SourceOperator) << "\n";
-  os << indent << "BiharmonicStrategy: " << gridfree::CodeOf(s.BiharmonicStrategy) << "\n";
-  os << indent << "NestedWalks: " << s.NestedWalks << "\n";
-  os << indent << "ControlVariates: " << (s.ControlVariates ? "On" : "Off") << "\n";
-  os << indent << "AntitheticPairs: " << (s.AntitheticPairs ? "On" : "Off") << "\n";
+  gridfree::PrintProblemSettings(os, indent, s);
 }

@@ -74,6 +74,7 @@ public:
    * Poisson), added to the Source input's.
    */
   void SetSourceExpression(const char* expression);
+  const char* GetSourceExpression();
 
   /**
    * An implicit boundary instead of (or with values from) the Boundary
@@ -91,7 +92,9 @@ public:
    * input array 3); SourceSampling; BiharmonicStrategy and NestedWalks.
    */
   void SetBoundaryValueExpression(const char* expression);
+  const char* GetBoundaryValueExpression();
   void SetBoundaryLaplacianExpression(const char* expression);
+  const char* GetBoundaryLaplacianExpression();
   void SetLipschitzBound(double bound);
   double GetLipschitzBound();
   void SetCsgOperation(int operation);
