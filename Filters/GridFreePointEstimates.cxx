@@ -3,6 +3,7 @@
 #include "GridFreeArrays.h"
 #include "GridFreeEstimateArrays.h"
 #include "GridFreeEstimateWarnings.h"
+#include "GridFreePointNumbers.h"
 #include "GridFreeProblemBuilder.h"
 #include "GridFreeSolveSettings.h"
 
@@ -189,13 +190,13 @@ struct StartPoints
 // The distance to the boundary and the closest boundary value at each
 // point. Walk on stars: the reflecting part counts for the distance; the
 // closest boundary value is the Dirichlet part's (NaN without one).
-template <int DIM>
-void FillBoundaryArrays(const Problem<DIM>& problem,
-  const std::vector<std::array<double, 3>>& points, EstimateArrays& arrays)
+template <int DIM, class Storage>
+void FillBoundaryArrays(
+  const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points, Storage& arrays)
 {
   const Boundary<DIM>& geometry = problem.GetBoundary();
   const MixedBoundary<DIM>* mixed = problem.GetMixedBoundary();
-  const int nc = arrays.Components;
+  const int nc = arrays.Components();
   tbb::parallel_for(tbb::blocked_range<vtkIdType>(0, static_cast<vtkIdType>(points.size()), 256),
     [&](const tbb::blocked_range<vtkIdType>& range)
     {
@@ -210,7 +211,11 @@ void FillBoundaryArrays(const Problem<DIM>& problem,
           {
             d = std::min(d, mixed->Reflecting().Distance(x));
           }
-          arrays.Distance->SetValue(i, d);
+          arrays.SetDistance(i, d);
+          if (!Storage::kClosestValues)
+          {
+            continue;
+          }
           if (mixed && !mixed->HasDirichlet())
           {
             std::fill(g.begin(), g.end(), std::numeric_limits<double>::quiet_NaN());
@@ -221,7 +226,7 @@ void FillBoundaryArrays(const Problem<DIM>& problem,
           }
           for (int c = 0; c < nc; ++c)
           {
-            arrays.ClosestValue->SetTypedComponent(i, c, g[static_cast<std::size_t>(c)]);
+            arrays.SetClosestValue(i, c, g[static_cast<std::size_t>(c)]);
           }
         }
       }
@@ -384,13 +389,142 @@ std::int64_t PointsShortOfTarget(const EstimateArrays& arrays, double target, in
   return unreached;
 }
 
+// Where a batch's estimates go (Estimate's storage): VTK arrays, added to an
+// output once at the end (unless it is null) ...
+struct ArrayStorage
+{
+  static constexpr bool kClosestValues = true;
+  EstimateArrays& Arrays;
+  vtkPointData* Output;
+
+  void Allocate(const std::string& name, int nc, vtkIdType n, bool biharmonic,
+    const DerivativeRequest& derivatives)
+  {
+    this->Arrays.Allocate(name, nc, n, biharmonic, derivatives);
+  }
+  int Components() const { return this->Arrays.Components; }
+  bool AnyDerivative() const { return this->Arrays.AnyDerivative; }
+  void SetDistance(vtkIdType i, double d) { this->Arrays.Distance->SetValue(i, d); }
+  void SetClosestValue(vtkIdType i, int c, double g)
+  {
+    this->Arrays.ClosestValue->SetTypedComponent(i, c, g);
+  }
+  template <int DIM>
+  BatchSummary Run(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points,
+    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept)
+  {
+    const SampleLayout layout = problem.Layout(batch);
+    auto storePoint = [&](std::size_t at, const RunningStatistics& stats,
+                        const WalkCounters& counters, DerivativeStatus status)
+    {
+      this->Arrays.Store<DIM>(
+        at, stats, counters, layout, problem.ErrorBar(stats, counters, layout), status);
+    };
+    return problem.Estimate(points, batch, storePoint, std::ref(progress), kept);
+  }
+  void Finish(bool withWalkCount)
+  {
+    if (this->Output)
+    {
+      this->Arrays.AddTo(this->Output, withWalkCount);
+    }
+    else
+    {
+      this->Arrays.Finish();
+    }
+  }
+  std::int64_t UnevenWeights() const { return this->Arrays.UnevenWeights.load(); }
+  std::int64_t OneWalkSpread() const { return this->Arrays.OneWalkSpread.load(); }
+  std::int64_t ShortOfTarget(double target, int walksPerPoint) const
+  {
+    return PointsShortOfTarget(this->Arrays, target, walksPerPoint);
+  }
+  double FirstValue(vtkIdType i) const
+  {
+    return this->Arrays.Mean->GetValue(i * this->Arrays.Components);
+  }
+};
+
+// ... or the core's numbers (Problem::EstimateAll), for a filter that uses
+// them itself.
+struct NumberStorage
+{
+  static constexpr bool kClosestValues = false;
+  PointNumbers& Numbers;
+
+  void Allocate(const std::string&, int nc, vtkIdType n, bool, const DerivativeRequest& derivatives)
+  {
+    this->Numbers.Components = nc;
+    this->Numbers.Request = derivatives;
+    this->Numbers.Distance.assign(
+      static_cast<std::size_t>(n), std::numeric_limits<double>::quiet_NaN());
+  }
+  int Components() const { return this->Numbers.Components; }
+  bool AnyDerivative() const
+  {
+    const DerivativeRequest& r = this->Numbers.Request;
+    return r.Gradient || r.Hessian || r.Directional;
+  }
+  void SetDistance(vtkIdType i, double d) { this->Numbers.Distance[static_cast<std::size_t>(i)] = d; }
+  void SetClosestValue(vtkIdType, int, double) {}
+  template <int DIM>
+  BatchSummary Run(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points,
+    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept)
+  {
+    this->Numbers.Dimension = DIM;
+    this->Numbers.Batch = problem.EstimateAll(points, batch, std::ref(progress), kept);
+    return this->Numbers.Batch.Summary;
+  }
+  void Finish(bool) {}
+  // As EstimateArrays::Store counts them, over the points that reached it.
+  std::int64_t UnevenWeights() const { return this->CountErrorBars(true); }
+  std::int64_t OneWalkSpread() const { return this->CountErrorBars(false); }
+  std::int64_t ShortOfTarget(double target, int walksPerPoint) const
+  {
+    const BatchEstimates& b = this->Numbers.Batch;
+    std::int64_t unreached = 0;
+    for (std::size_t i = 0; i < b.Points; ++i)
+    {
+      bool above = false;
+      for (int c = 0; c < this->Numbers.Components; ++c)
+      {
+        above = above || !(b.ValueVariance(i, c) <= target * target);
+      }
+      const auto walks = std::min<std::uint64_t>(b.Counters[i].Walks, VTK_INT_MAX);
+      unreached += (above && static_cast<int>(walks) >= walksPerPoint) ? 1 : 0;
+    }
+    return unreached;
+  }
+  double FirstValue(vtkIdType i) const
+  {
+    return this->Numbers.Value(static_cast<std::size_t>(i));
+  }
+
+private:
+  std::int64_t CountErrorBars(bool uneven) const
+  {
+    const BatchEstimates& b = this->Numbers.Batch;
+    std::int64_t count = 0;
+    for (std::size_t i = 0; i < b.Points; ++i)
+    {
+      if (!b.Finished[i])
+      {
+        continue;
+      }
+      const ErrorBarCheck& check = b.ErrorBars[i];
+      const bool isUneven = check.WeightVariation > ErrorBarRule().MaxWeightVariation;
+      count += uneven ? (isUneven ? 1 : 0) : (!isUneven && !check.Reliable ? 1 : 0);
+    }
+    return count;
+  }
+};
+
 // The batch at `probePoints`: the request from the settings, the run, the
-// arrays (added to `pd` once at the end, unless it is null), the summary and
-// the warnings.
-template <int DIM>
+// estimates into `arrays` (its storage), the summary and the warnings.
+template <int DIM, class Storage>
 bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& probePoints, EstimateArrays& arrays,
-  vtkPointData* pd, vtkFieldData* fd, const PointEstimateRun& run, PointEstimateSummary& result)
+  const std::vector<std::array<double, 3>>& probePoints, Storage arrays, vtkPointData* pd,
+  vtkFieldData* fd, const PointEstimateRun& run, PointEstimateSummary& result)
 {
   const Problem<DIM>& problem = built.Get<DIM>();
   const bool mixed = problem.GetMixedBoundary() != nullptr;
@@ -424,15 +558,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   // caller kept (it forgot them if anything but WalksPerPoint changed) and
   // keeps its own.
   ProgressReporter progress(self, run, warn, numPoints, batch.WalksPerPoint, target);
-  const SampleLayout layout = problem.Layout(batch);
-  auto storePoint = [&](std::size_t at, const RunningStatistics& stats,
-                      const WalkCounters& counters, DerivativeStatus status)
-  {
-    arrays.Store<DIM>(at, stats, counters, layout, problem.ErrorBar(stats, counters, layout),
-      status);
-  };
-  const BatchSummary summary =
-    problem.Estimate(points, batch, storePoint, std::ref(progress), run.Kept);
+  const BatchSummary summary = arrays.template Run<DIM>(problem, points, batch, progress, run.Kept);
 
   // Walks run now; the output stands for the totals (kept walks included).
   result.ResumedWalksPerPoint = summary.ResumedWalksPerPoint;
@@ -442,14 +568,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
   result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
-  if (pd)
-  {
-    arrays.AddTo(pd, target > 0.0 || !summary.Completed);
-  }
-  else
-  {
-    arrays.Finish();
-  }
+  arrays.Finish(target > 0.0 || !summary.Completed);
 
   BatchFindings found;
   found.Name = name;
@@ -461,14 +580,14 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   found.Completed = summary.Completed;
   found.Seconds = summary.Seconds;
   found.Biharmonic = built.Biharmonic;
-  found.AnyDerivative = arrays.AnyDerivative;
+  found.AnyDerivative = arrays.AnyDerivative();
   found.UnboundedSource = summary.UnboundedSource;
   found.PointsFinished = summary.PointsFinished;
   found.PointsWithoutWalks = summary.PointsWithoutWalks;
   found.BackFaceHits = summary.BackFaceHits;
   found.UnreliableErrorBars = summary.UnreliableErrorBars;
-  found.UnevenWeights = arrays.UnevenWeights.load();
-  found.OneWalkSpread = arrays.OneWalkSpread.load();
+  found.UnevenWeights = arrays.UnevenWeights();
+  found.OneWalkSpread = arrays.OneWalkSpread();
   found.Walks = summary.Totals.Walks;
   found.WalksRun = summary.WalksRun;
   found.Steps = summary.Totals.Steps;
@@ -485,7 +604,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   {
     if (target > 0.0)
     {
-      found.PointsShortOfTarget = PointsShortOfTarget(arrays, target, batch.WalksPerPoint);
+      found.PointsShortOfTarget = arrays.ShortOfTarget(target, batch.WalksPerPoint);
       result.PointsShortOfTarget = found.PointsShortOfTarget;
       if (fd)
       {
@@ -498,7 +617,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     found.NanResults = -start.NonFinite - start.Outside;
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
-      found.NanResults += std::isnan(arrays.Mean->GetValue(i * nc)) ? 1 : 0;
+      found.NanResults += std::isnan(arrays.FirstValue(i)) ? 1 : 0;
     }
   }
   BatchWarningChoice choice;
@@ -525,20 +644,21 @@ bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   PointEstimateSummary& summary, EstimateArrays* keep)
 {
   EstimateArrays local;
-  EstimateArrays& estimates = keep ? *keep : local;
+  const ArrayStorage storage{ keep ? *keep : local, arrays };
   summary = PointEstimateSummary();
   return problem.Dimension == 2
-    ? Estimate<2>(reporter, problem, settings, points, estimates, arrays, fieldData, run, summary)
-    : Estimate<3>(reporter, problem, settings, points, estimates, arrays, fieldData, run, summary);
+    ? Estimate<2>(reporter, problem, settings, points, storage, arrays, fieldData, run, summary)
+    : Estimate<3>(reporter, problem, settings, points, storage, arrays, fieldData, run, summary);
 }
 
 bool EstimateNumbersAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
-  EstimateArrays& estimates, const PointEstimateRun& run, PointEstimateSummary& summary)
+  PointNumbers& numbers, const PointEstimateRun& run, PointEstimateSummary& summary)
 {
+  const NumberStorage storage{ numbers };
   summary = PointEstimateSummary();
   return problem.Dimension == 2
-    ? Estimate<2>(reporter, problem, settings, points, estimates, nullptr, nullptr, run, summary)
-    : Estimate<3>(reporter, problem, settings, points, estimates, nullptr, nullptr, run, summary);
+    ? Estimate<2>(reporter, problem, settings, points, storage, nullptr, nullptr, run, summary)
+    : Estimate<3>(reporter, problem, settings, points, storage, nullptr, nullptr, run, summary);
 }
 } // namespace gridfree

@@ -30,6 +30,7 @@ namespace gridfree
 class RunningSumsCache;
 struct BuiltProblem;
 struct EstimateArrays;
+struct PointNumbers;
 struct SolveSettings;
 
 struct PointEstimateRun
@@ -84,11 +85,12 @@ bool EstimateAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   PointEstimateSummary& summary, EstimateArrays* keep = nullptr);
 
 // The same batch for a filter that uses the numbers itself (the stream
-// tracer): they stay in `estimates` (GridFreeEstimateArrays.h, read by
-// member, not by name), named after the boundary array, and go to no output.
+// tracer): the core's collected estimates (Problem::EstimateAll) with each
+// point's distance to the boundary (GridFreePointNumbers.h), with the same
+// warnings; nothing goes to an output.
 bool EstimateNumbersAtPoints(vtkAlgorithm* reporter, const BuiltProblem& problem,
   const SolveSettings& settings, const std::vector<std::array<double, 3>>& points,
-  EstimateArrays& estimates, const PointEstimateRun& run, PointEstimateSummary& summary);
+  PointNumbers& numbers, const PointEstimateRun& run, PointEstimateSummary& summary);
 } // namespace gridfree
 
 #endif

@@ -18,7 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "GridFreeArraySelection.h"
-#include "GridFreeEstimateArrays.h"
+#include "GridFreePointNumbers.h"
 #include "GridFreeSolveSettings.h"
 
 #include <algorithm>
@@ -252,7 +252,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
       settingsFor(walks), psiArrays, encoded, nullptr, where, begin, end, result, aborted);
   };
   auto solveNumbers = [&](vtkDataSet* where, int walks, double begin, double end,
-                        gridfree::EstimateArrays& found) {
+                        gridfree::PointNumbers& found) {
     bool aborted = false;
     return this->SolveNumbers(
       settingsFor(walks), psiArrays, encoded, nullptr, where, begin, end, found, aborted);
@@ -323,7 +323,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
       const double next = progress + 0.05 * (phaseEnd - progress);
       // ψ (two components) with its gradient and variance, and the distance
       // to the boundary, as numbers from the batch.
-      gridfree::EstimateArrays found;
+      gridfree::PointNumbers found;
       if (!solveNumbers(batch, this->SearchWalksPerPoint, progress, next, found))
       {
         failed = true;
@@ -331,8 +331,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
       }
       progress = next;
       this->LastNumberOfEstimates += static_cast<vtkIdType>(where.size());
-      const vtkDoubleArray* gradient = found.Derivatives.Gradient;
-      if (!found.Mean || found.Components != 2 || !gradient)
+      if (found.Size() != where.size() || found.Components != 2 || !found.HasGradient())
       {
         failed = true;
         return false;
@@ -340,15 +339,12 @@ int vtkWalkOnSpheresCrossField::RequestData(
       out.resize(where.size());
       for (std::size_t i = 0; i < where.size(); ++i)
       {
-        const vtkIdType id = static_cast<vtkIdType>(i);
         gridfree::CrossFieldSample& s = out[i];
-        s.Psi = std::complex<double>(found.Mean->GetValue(2 * id), found.Mean->GetValue(2 * id + 1));
-        s.GradRe = gridfree::Vec2(
-          gradient->GetTypedComponent(id, 0), gradient->GetTypedComponent(id, 1));
-        s.GradIm = gridfree::Vec2(
-          gradient->GetTypedComponent(id, 3), gradient->GetTypedComponent(id, 4));
-        s.PsiVariance = found.Variance->GetValue(2 * id) + found.Variance->GetValue(2 * id + 1);
-        s.BoundaryDistance = found.Distance->GetValue(id);
+        s.Psi = std::complex<double>(found.Value(i, 0), found.Value(i, 1));
+        s.GradRe = gridfree::Vec2(found.Gradient(i, 0, 0), found.Gradient(i, 0, 1));
+        s.GradIm = gridfree::Vec2(found.Gradient(i, 1, 0), found.Gradient(i, 1, 1));
+        s.PsiVariance = found.ValueVariance(i, 0) + found.ValueVariance(i, 1);
+        s.BoundaryDistance = found.Distance[i];
         s.Valid = Inside(segments, where[i]);
       }
       return true;

@@ -226,7 +226,7 @@ bool vtkWalkOnSpheresProbeAlgorithm::Solve(const gridfree::SolveSettings& settin
 
 bool vtkWalkOnSpheresProbeAlgorithm::SolveNumbers(const gridfree::SolveSettings& settings,
   const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
-  vtkDataSet* where, double begin, double end, gridfree::EstimateArrays& found, bool& aborted,
+  vtkDataSet* where, double begin, double end, gridfree::PointNumbers& found, bool& aborted,
   int problemNumber)
 {
   return this->RunSolve(settings, arrays, boundary, source, where, begin, end, aborted,

@@ -40,7 +40,7 @@ namespace gridfree
 {
 struct ArraySelections;
 struct BuiltProblem;
-struct EstimateArrays;
+struct PointNumbers;
 struct PointEstimateRun;
 struct PointEstimateSummary;
 struct SolveSettings;
@@ -103,11 +103,11 @@ protected:
     vtkDataObject* boundary, vtkDataObject* source, vtkDataSet* probe, double begin, double end,
     vtkSmartPointer<vtkDataSet>& result, bool& aborted, int problem = 0);
   // The same solve for a subclass that uses the numbers itself: they stay in
-  // `found` (GridFreeEstimateArrays.h, read by member, not by name), and no
+  // `found` (the core's numbers, GridFreePointNumbers.h), and no
   // copy of `where` is made.
   bool SolveNumbers(const gridfree::SolveSettings& settings,
     const gridfree::ArraySelections& arrays, vtkDataObject* boundary, vtkDataObject* source,
-    vtkDataSet* where, double begin, double end, gridfree::EstimateArrays& found, bool& aborted,
+    vtkDataSet* where, double begin, double end, gridfree::PointNumbers& found, bool& aborted,
     int problem = 0);
 
   // Adds the Last... counters to `output`'s field data (TotalWalks,

@@ -227,7 +227,7 @@ bool vtkWalkOnSpheresSolverDriver::EstimateAt(const std::vector<std::array<doubl
 }
 
 bool vtkWalkOnSpheresSolverDriver::EstimateNumbersAt(
-  const std::vector<std::array<double, 3>>& points, gridfree::EstimateArrays& estimates,
+  const std::vector<std::array<double, 3>>& points, gridfree::PointNumbers& estimates,
   double progress, double& seconds, vtkIdType& walks)
 {
   return this->RunBatch(

@@ -37,6 +37,7 @@ class vtkPolyData;
 namespace gridfree
 {
 struct EstimateArrays;
+struct PointNumbers;
 struct PointEstimateRun;
 struct PointEstimateSummary;
 }
@@ -170,10 +171,10 @@ protected:
   bool EstimateAt(const std::vector<std::array<double, 3>>& points, vtkPointData* arrays,
     double progress, double& seconds, vtkIdType& walks,
     gridfree::EstimateArrays* found = nullptr);
-  // The same batch for a subclass that uses the numbers itself: they stay in
-  // `estimates` (read by member, not by name) and go to no output.
+  // The same batch for a subclass that uses the numbers itself: the core's
+  // collected estimates (GridFreePointNumbers.h); nothing goes to an output.
   bool EstimateNumbersAt(const std::vector<std::array<double, 3>>& points,
-    gridfree::EstimateArrays& estimates, double progress, double& seconds, vtkIdType& walks);
+    gridfree::PointNumbers& estimates, double progress, double& seconds, vtkIdType& walks);
   // Whether a batch of this execution failed (BuildProblem resets it).
   bool GetEstimateFailed();
 

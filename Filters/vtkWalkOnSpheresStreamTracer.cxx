@@ -1,9 +1,9 @@
 #include "vtkWalkOnSpheresStreamTracer.h"
 
 #include "GridFreeArrays.h"
-#include "GridFreeEstimateArrays.h"
+#include "GridFreePointNumbers.h"
 
-#include <gridfree/applications/LockstepStreamlines.h>
+#include <gridfree/applications/GradientStreamlines.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -37,52 +37,13 @@ namespace
 {
 constexpr int SeedsPort = 1;
 
-using Point = std::array<double, 3>;
-
-// What the solver estimated at one point: u, ∇u (of the first component)
-// and their variances, and whether the point is closer than epsilon.
-struct Estimate
-{
-  double Value = 0.0;
-  double ValueVariance = 0.0;
-  Point Gradient = { 0.0, 0.0, 0.0 };
-  Point GradientVariance = { 0.0, 0.0, 0.0 };
-  double Distance = 0.0; // to the boundary
-  bool NearBoundary = false;
-  bool Valid = false;
-};
-
-// One streamline: its points, the estimates there, and how it ended.
-struct Line
-{
-  vtkIdType Seed = 0;
-  double Sign = 1.0; // +1 up the gradient, -1 down
-  std::vector<Point> Points;
-  std::vector<Estimate> Estimates;
-  double Length = 0.0;
-  int Reason = 0; // 0 while running
-};
-
-// Unit direction s·g/|g|; false where |g| is at most `terminal` or not finite.
-bool UnitDirection(const Estimate& e, double sign, double terminal, Point& d)
-{
-  const double norm = std::sqrt(e.Gradient[0] * e.Gradient[0] + e.Gradient[1] * e.Gradient[1] +
-    e.Gradient[2] * e.Gradient[2]);
-  if (!(norm > terminal) || !std::isfinite(norm))
-  {
-    return false;
-  }
-  for (int k = 0; k < 3; ++k)
-  {
-    d[k] = sign * e.Gradient[k] / norm;
-  }
-  return true;
-}
-
-Point Advance(const Point& x, double h, const Point& d)
-{
-  return { x[0] + h * d[0], x[1] + h * d[1], x[2] + h * d[2] };
-}
+static_assert(vtkWalkOnSpheresStreamTracer::OUT_OF_DOMAIN ==
+    static_cast<int>(gridfree::StreamEnd::OutOfDomain) &&
+  vtkWalkOnSpheresStreamTracer::OUT_OF_LENGTH == static_cast<int>(gridfree::StreamEnd::OutOfLength) &&
+  vtkWalkOnSpheresStreamTracer::OUT_OF_STEPS == static_cast<int>(gridfree::StreamEnd::OutOfSteps) &&
+  vtkWalkOnSpheresStreamTracer::STAGNATION == static_cast<int>(gridfree::StreamEnd::Stagnation) &&
+  vtkWalkOnSpheresStreamTracer::CLOSE_TO_BOUNDARY ==
+    static_cast<int>(gridfree::StreamEnd::CloseToBoundary));
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -123,6 +84,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
 
   // The box lines must stay in (the boundary's, enlarged by a step), and
   // the length scale of relative steps.
+  gridfree::StreamlineSettings lineSettings;
   double bounds[6] = { 0, -1, 0, -1, 0, -1 };
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(boundary))
   {
@@ -132,31 +94,25 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   {
     poly->GetBounds(bounds);
   }
-  const bool haveBox = bounds[0] <= bounds[1];
-  if (!haveBox)
+  lineSettings.HaveBox = bounds[0] <= bounds[1];
+  if (!lineSettings.HaveBox)
   {
     seeds->GetBounds(bounds);
   }
+  std::copy_n(bounds, 6, lineSettings.Box.begin());
   const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
     (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
     (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   const double scale = this->StepLengthIsRelative ? (diagonal > 0.0 ? diagonal : 1.0) : 1.0;
-  const double h = this->StepLength * scale;
-  const double maximumLength = this->MaximumPropagation * scale;
-  auto inBox = [&](const Point& p) {
-    if (!haveBox)
-    {
-      return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      if (!(p[k] >= bounds[2 * k] - h && p[k] <= bounds[2 * k + 1] + h))
-      {
-        return false;
-      }
-    }
-    return true;
-  };
+  lineSettings.StepLength = this->StepLength * scale;
+  lineSettings.MaximumLength = this->MaximumPropagation * scale;
+  lineSettings.MaximumSteps = this->MaximumNumberOfSteps;
+  lineSettings.TerminalSpeed = this->TerminalSpeed;
+  lineSettings.Integrator = this->IntegratorType == RUNGE_KUTTA_4
+    ? gridfree::StreamIntegrator::RungeKutta4
+    : gridfree::StreamIntegrator::Heun;
+  lineSettings.Forward = this->IntegrationDirection != BACKWARD;
+  lineSettings.Backward = this->IntegrationDirection != FORWARD;
 
   // The problem, built once for all the lines (an implicit boundary lives
   // around the seeds).
@@ -169,192 +125,57 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   double seconds = 0.0;
   vtkIdType walks = 0;
 
-  // Estimates at `points` (one batch for all of them), taken as numbers from
-  // the batch: the first component's value and gradient with their
-  // variances, the derivative status and the distance to the boundary.
-  // False when aborted or when the batch failed (reported).
-  auto estimate = [&](const std::vector<Point>& points, std::vector<Estimate>& out) {
-    gridfree::EstimateArrays found;
+  // Estimates at `points`, one batch for all of them, as numbers (the
+  // core's): the first component's value and gradient with their
+  // variances, whether the gradient is the interior one, the distance to
+  // the boundary. False when aborted or when the batch failed (reported).
+  auto estimate = [&](const std::vector<gridfree::StreamPoint>& points,
+                    std::vector<gridfree::StreamEstimate>& out) {
+    gridfree::PointNumbers found;
     const bool completed = this->EstimateNumbersAt(points, found, progress, seconds, walks);
     this->LastNumberOfEstimates += static_cast<vtkIdType>(points.size());
-    const gridfree::DerivativeArrays& derivatives = found.Derivatives;
-    if (!found.Mean || !derivatives.Gradient || !derivatives.GradientVariance ||
-      !derivatives.Status)
+    if (found.Size() != points.size() || !found.HasGradient())
     {
       return false; // the batch failed (reported)
     }
-    const int nc = found.Components;
     out.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
     {
-      const auto id = static_cast<vtkIdType>(i);
-      Estimate& e = out[i];
-      e.Value = found.Mean->GetValue(id * nc);
-      e.ValueVariance = found.Variance->GetValue(id * nc);
+      gridfree::StreamEstimate& e = out[i];
+      e.Value = found.Value(i);
+      e.ValueVariance = found.ValueVariance(i);
       for (int k = 0; k < 3; ++k)
       {
-        e.Gradient[k] = derivatives.Gradient->GetTypedComponent(id, k);
-        e.GradientVariance[k] = derivatives.GradientVariance->GetTypedComponent(id, k);
+        e.Gradient[k] = found.Gradient(i, 0, k);
+        e.GradientVariance[k] = found.GradientVariance(i, 0, k);
       }
-      e.NearBoundary = derivatives.Status->GetValue(id) != 0;
-      e.Distance = found.Distance->GetValue(id);
+      e.NearBoundary = found.Status(i) != gridfree::DerivativeStatus::Interior;
+      e.Distance = found.Distance[i];
       e.Valid = std::isfinite(e.Value);
     }
     return completed;
   };
+  auto reportProgress = [&](double fraction) {
+    progress = fraction;
+    this->UpdateProgress(progress);
+    return !this->GetAbortExecute();
+  };
 
-  // The lines: one per seed and direction, started at the seeds.
-  std::vector<Line> lines;
-  std::vector<Point> seedPoints(static_cast<std::size_t>(seeds->GetNumberOfPoints()));
+  // The lines (the core's lockstep tracing), one per seed and direction.
+  std::vector<gridfree::StreamPoint> seedPoints(
+    static_cast<std::size_t>(seeds->GetNumberOfPoints()));
   for (vtkIdType s = 0; s < seeds->GetNumberOfPoints(); ++s)
   {
     seeds->GetPoint(s, seedPoints[static_cast<std::size_t>(s)].data());
   }
-  std::vector<Estimate> seedEstimates;
-  bool aborted = !estimate(seedPoints, seedEstimates);
-  for (vtkIdType s = 0; s < seeds->GetNumberOfPoints(); ++s)
-  {
-    for (double sign : { 1.0, -1.0 })
-    {
-      if ((sign > 0 && this->IntegrationDirection == BACKWARD) ||
-        (sign < 0 && this->IntegrationDirection == FORWARD))
-      {
-        continue;
-      }
-      Line line;
-      line.Seed = s;
-      line.Sign = sign;
-      line.Points.push_back(seedPoints[static_cast<std::size_t>(s)]);
-      line.Estimates.push_back(seedEstimates[static_cast<std::size_t>(s)]);
-      lines.push_back(std::move(line));
-    }
-  }
-
-  // Checks whether a line can take a step from its last point; sets its
-  // direction there, or ends it with the reason.
-  auto startStep = [&](Line& line, Point& d) {
-    const Estimate& e = line.Estimates.back();
-    if (!e.Valid || !inBox(line.Points.back()))
-    {
-      line.Reason = OUT_OF_DOMAIN;
-    }
-    else if (e.NearBoundary)
-    {
-      line.Reason = CLOSE_TO_BOUNDARY;
-    }
-    else if (!UnitDirection(e, line.Sign, this->TerminalSpeed, d))
-    {
-      line.Reason = STAGNATION;
-    }
-    else if (static_cast<int>(line.Points.size()) > this->MaximumNumberOfSteps)
-    {
-      line.Reason = OUT_OF_STEPS;
-    }
-    else if (line.Length + h > maximumLength * (1.0 + 1e-12))
-    {
-      line.Reason = OUT_OF_LENGTH;
-    }
-    return line.Reason == 0;
-  };
-
-  // A step never leaves the empty ball around the line's point (half its
-  // radius), so no stage crosses the boundary: near it, steps shrink and the
-  // line ends within epsilon of it (CLOSE_TO_BOUNDARY).
-  auto stepOf = [&](const Line& line) {
-    return std::min(h, 0.5 * line.Estimates.back().Distance);
-  };
-
-  // Lockstep integration (the core's LockstepStreamlines.h): each stage
-  // estimates at all running lines' stage points in one batch. A stage whose
-  // direction is undefined reuses the previous one.
-  const gridfree::StreamIntegrator method = this->IntegratorType == RUNGE_KUTTA_4
-    ? gridfree::StreamIntegrator::RungeKutta4
-    : gridfree::StreamIntegrator::Heun;
-  for (int step = 0; step < this->MaximumNumberOfSteps && !aborted; ++step)
-  {
-    std::vector<std::size_t> running;
-    std::vector<Point> from, first;
-    std::vector<double> steps;
-    for (std::size_t l = 0; l < lines.size(); ++l)
-    {
-      Point d;
-      if (lines[l].Reason == 0 && startStep(lines[l], d))
-      {
-        running.push_back(l);
-        from.push_back(lines[l].Points.back());
-        first.push_back(d);
-        steps.push_back(stepOf(lines[l]));
-      }
-    }
-    if (running.empty())
-    {
-      break;
-    }
-    progress = static_cast<double>(step) / this->MaximumNumberOfSteps;
-    this->UpdateProgress(progress);
-    if (this->GetAbortExecute())
-    {
-      aborted = true;
-      break;
-    }
-    auto gradientDirections = [&](int, const std::vector<Point>& at, const std::vector<Point>&,
-                                std::vector<Point>& directions, std::vector<char>& defined) {
-      std::vector<Estimate> estimates;
-      if (!estimate(at, estimates))
-      {
-        return false;
-      }
-      for (std::size_t r = 0; r < running.size(); ++r)
-      {
-        defined[r] = UnitDirection(estimates[r], lines[running[r]].Sign, 0.0, directions[r]);
-      }
-      return true;
-    };
-    std::vector<Point> combined;
-    if (!gridfree::LockstepStepDirections<Point, 3>(
-          method, from, steps, first, gradientDirections, combined))
-    {
-      aborted = true;
-      break;
-    }
-    std::vector<Point> next(running.size());
-    for (std::size_t r = 0; r < running.size(); ++r)
-    {
-      next[r] = Advance(from[r], steps[r], combined[r]);
-    }
-    std::vector<Estimate> atNext;
-    if (!estimate(next, atNext))
-    {
-      aborted = true;
-      break; // an aborted batch's points are NaN: the lines end before them
-    }
-    for (std::size_t r = 0; r < running.size(); ++r)
-    {
-      Line& line = lines[running[r]];
-      const Point& from = line.Points.back();
-      const Point& to = next[r];
-      line.Length += std::sqrt((to[0] - from[0]) * (to[0] - from[0]) +
-        (to[1] - from[1]) * (to[1] - from[1]) + (to[2] - from[2]) * (to[2] - from[2]));
-      line.Points.push_back(to);
-      line.Estimates.push_back(atNext[r]);
-    }
-  }
-  for (Line& line : lines)
-  {
-    if (line.Reason == 0)
-    {
-      Point unused;
-      if (startStep(line, unused))
-      {
-        line.Reason = OUT_OF_STEPS;
-      }
-    }
-  }
+  std::vector<gridfree::Streamline> lines;
+  const bool completed =
+    gridfree::TraceGradientStreamlines(seedPoints, lineSettings, estimate, reportProgress, lines);
   if (this->GetEstimateFailed())
   {
     return 0;
   }
-  if (aborted)
+  if (!completed)
   {
     vtkWarningMacro(<< "Tracing aborted: the lines end where they were.");
   }
@@ -381,7 +202,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   vtkNew<vtkIntArray> seedIds, reasons;
   seedIds->SetName("SeedIds");
   reasons->SetName("ReasonForTermination");
-  for (const Line& line : lines)
+  for (const gridfree::Streamline& line : lines)
   {
     if (line.Points.size() < 2)
     {
@@ -393,13 +214,13 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
     {
       if (i > 0)
       {
-        const Point& a = line.Points[i - 1];
-        const Point& b = line.Points[i];
+        const gridfree::StreamPoint& a = line.Points[i - 1];
+        const gridfree::StreamPoint& b = line.Points[i];
         arc += std::sqrt(
           (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
       }
       polylines->InsertCellPoint(points->InsertNextPoint(line.Points[i].data()));
-      const Estimate& e = line.Estimates[i];
+      const gridfree::StreamEstimate& e = line.Estimates[i];
       value->InsertNextValue(e.Value);
       valueVariance->InsertNextValue(e.ValueVariance);
       gradient->InsertNextTuple(e.Gradient.data());
@@ -407,7 +228,7 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
       time->InsertNextValue(line.Sign * arc);
     }
     seedIds->InsertNextValue(static_cast<int>(line.Seed));
-    reasons->InsertNextValue(line.Reason);
+    reasons->InsertNextValue(static_cast<int>(line.Reason));
   }
   output->SetPoints(points);
   output->SetLines(polylines);
