@@ -45,7 +45,7 @@ ExactBall<Gradient> Exact(Gradient of)
   return ExactBall<Gradient>{ of };
 }
 
-auto always = [](double) { return true; };
+auto tracing = [](double) { return true; };
 } // namespace
 
 // u = x: straight lines both ways to the sphere, ended within ε of it, the
@@ -57,7 +57,7 @@ TEST(GradientStreamlines, StraightLinesEndCloseToTheBoundary)
   settings.MaximumLength = 10.0;
   auto estimate = Exact([](const StreamPoint&) { return StreamPoint{ 1.0, 0.0, 0.0 }; });
   std::vector<Streamline> lines;
-  ASSERT_TRUE(TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, estimate, always, lines));
+  ASSERT_TRUE(TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, estimate, tracing, lines));
   ASSERT_EQ(lines.size(), 2u);
   for (const Streamline& line : lines)
   {
@@ -87,7 +87,7 @@ TEST(GradientStreamlines, HyperbolasKeepTheirInvariant)
     auto estimate = Exact([](const StreamPoint& p) { return StreamPoint{ p[0], -p[1], 0.0 }; });
     std::vector<Streamline> lines;
     ASSERT_TRUE(
-      TraceGradientStreamlines({ { 0.1, 0.5, 0.0 } }, settings, estimate, always, lines));
+      TraceGradientStreamlines({ { 0.1, 0.5, 0.0 } }, settings, estimate, tracing, lines));
     ASSERT_EQ(lines.size(), 1u);
     const Streamline& line = lines[0];
     EXPECT_EQ(line.Reason, StreamEnd::OutOfLength);
@@ -113,7 +113,7 @@ TEST(GradientStreamlines, EndsAndDirections)
   auto flat = Exact([](const StreamPoint&) { return StreamPoint{ 0.0, 0.0, 0.0 }; });
   std::vector<Streamline> lines;
   ASSERT_TRUE(TraceGradientStreamlines(
-    { { 0.0, 0.0, 0.0 }, { 0.2, 0.0, 0.0 } }, settings, flat, always, lines));
+    { { 0.0, 0.0, 0.0 }, { 0.2, 0.0, 0.0 } }, settings, flat, tracing, lines));
   ASSERT_EQ(lines.size(), 2u);
   for (const Streamline& line : lines)
   {
@@ -127,7 +127,7 @@ TEST(GradientStreamlines, EndsAndDirections)
   settings.HaveBox = true;
   settings.Box = { -0.3, 0.3, -1, 1, -1, 1 };
   auto up = Exact([](const StreamPoint&) { return StreamPoint{ 1.0, 0.0, 0.0 }; });
-  ASSERT_TRUE(TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, up, always, lines));
+  ASSERT_TRUE(TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, up, tracing, lines));
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_EQ(lines[0].Reason, StreamEnd::OutOfDomain);
   // The first point beyond the box enlarged by a step.
@@ -162,6 +162,6 @@ TEST(GradientStreamlines, StopsAndBatches)
     return false;
   };
   EXPECT_FALSE(
-    TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, failing, always, lines));
+    TraceGradientStreamlines({ { 0.0, 0.0, 0.0 } }, settings, failing, tracing, lines));
   EXPECT_TRUE(lines.empty());
 }
