@@ -86,6 +86,13 @@ auto ExactEstimate(const std::vector<Point3>& candidates, Field field, int& batc
 }
 
 auto keepGoing = [](double) { return true; };
+
+// u = |x − 0.5|, a kink along x = 0.5.
+void Kink(const Point3& x, double& u, std::array<double, 3>& g)
+{
+  u = std::abs(x[0] - 0.5);
+  g = { x[0] >= 0.5 ? 1.0 : -1.0, 0.0, 0.0 };
+}
 } // namespace
 
 // A linear u is predicted exactly by every neighbour: no round adds a
@@ -121,10 +128,7 @@ TEST(AdaptiveSamplingRounds, RefinesAlongAKink)
   int batches = 0;
   auto estimate = ExactEstimate(
     candidates,
-    [](const Point3& x, double& u, std::array<double, 3>& g) {
-      u = std::abs(x[0] - 0.5);
-      g = { x[0] >= 0.5 ? 1.0 : -1.0, 0.0, 0.0 };
-    },
+    Kink,
     batches);
   NearestSamples neighbours;
   AdaptiveSamplingSettings settings;
@@ -190,10 +194,7 @@ TEST(AdaptiveSamplingRounds, Stops)
   int batches = 0;
   auto kink = ExactEstimate(
     candidates,
-    [](const Point3& x, double& u, std::array<double, 3>& g) {
-      u = std::abs(x[0] - 0.5);
-      g = { x[0] >= 0.5 ? 1.0 : -1.0, 0.0, 0.0 };
-    },
+    Kink,
     batches);
   auto never = [](double) { return false; };
   settings.InitialSamples = 16;
