@@ -1,4 +1,4 @@
-// How one point's walks run inside a batch (Problem.h's schedulers run
+// How one point's walks run inside a batch (BatchScheduler.h's schedulers run
 // every point through these): in chunks with a check for abort between
 // them, and in target-error mode until the standard error of the point's
 // value is reached with a reliable error bar. The walks are always those of
