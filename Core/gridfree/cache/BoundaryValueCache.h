@@ -1,0 +1,378 @@
+// Boundary value caching (Miller, Sawhney, Crane and Gkioulekas, SIGGRAPH
+// 2023) for an interior Dirichlet problem on a closed, consistently
+// oriented mesh: walks run once, at cache points on the boundary, and every
+// probe point is then answered by Green's representation formula, with no
+// walks of its own.
+//
+// For −Δu = 0 in Ω, with the free-space Green's function G (3D: 1/(4π r);
+// 2D: −ln r/(2π)) and P = ∂G/∂n_z its derivative along the outward normal
+// at the boundary point z, every x inside Ω has
+//
+//   u(x) = ∫_∂Ω [ G(x, z) ∂u/∂n(z) − P(x, z) g(z) ] dz,
+//   ∇u(x) = ∫_∂Ω [ ∇ₓG(x, z) ∂u/∂n(z) − ∇ₓP(x, z) g(z) ] dz.
+//
+// g is known; ∂u/∂n is not. The cache draws M points z_j uniformly over the
+// boundary's area A (a seeded stream per point: the same cache for any
+// thread count) and estimates ∂u/∂n(z_j) as ∇u·n at y_j = z_j − δ n_j, just
+// inside, by the problem's own gradient walks (one batch for all of them).
+// A probe point x then takes the mean of the M terms
+//
+//   T_j(x) = A [ G(x, z_j) q_j − P(x, z_j) g(z_j) ],   q_j = ∇̂u(y_j)·n_j,
+//
+// which are independent draws (each z_j and its walks are): the mean is
+// unbiased but for the offset (∂u/∂n at depth δ rather than on the
+// boundary, O(δ |∇²u|)), and its error bar is the terms' sample variance
+// over M, calibrated at every point although nearby points share the cache
+// (their errors are correlated: a smooth picture whose error does not
+// average out along a slice).
+//
+// The kernels grow like 1/r² (3D) as x nears the boundary, and with them
+// the variance: points closer than the shell distance are not answered here
+// (InShell), but by pointwise walks, which are cheapest there.
+#ifndef GRIDFREE_CACHE_BOUNDARY_VALUE_CACHE_H
+#define GRIDFREE_CACHE_BOUNDARY_VALUE_CACHE_H
+
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/problem/Problem.h>
+#include <gridfree/sampling/Random.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace gridfree
+{
+struct BoundaryCacheSettings
+{
+  std::size_t CachePoints = 4096;
+  int WalksPerCachePoint = 64;
+  // How far inside the boundary the normal derivative is estimated, and
+  // the shell whose points the cache does not answer: fractions of the
+  // boundary's bounding-box diagonal.
+  double Offset = 2e-3;
+  double ShellDistance = 0.05;
+  std::uint64_t Seed = 0;
+  int Threads = 0; // 0: all
+};
+
+// One answer of the cache per probe point: u (and ∇u when asked) with the
+// variances of their means; NaN, with InShell 1, for points closer to the
+// boundary than the shell distance, and with Outside 1 for points outside.
+struct CacheEvaluation
+{
+  std::vector<double> Value, ValueVariance;       // points × components
+  std::vector<double> Gradient, GradientVariance; // points × components × DIM
+  std::vector<unsigned char> InShell, Outside;
+};
+
+template <int DIM>
+class BoundaryValueCache
+{
+public:
+  // Builds the cache: draws the points, estimates ∂u/∂n there. Throws
+  // std::invalid_argument for what it cannot answer (not Laplace's
+  // equation, mixed conditions, an implicit boundary, an open or
+  // unoriented mesh). `progress` as in Problem::Estimate; an aborted build
+  // leaves the cache incomplete (Complete() false), answering nothing.
+  BoundaryValueCache(const Problem<DIM>& problem, const BoundaryCacheSettings& settings,
+    const BatchProgressCallback& progress = BatchProgressCallback())
+    : Shape(problem.SharedBoundary())
+    , Settings(settings)
+  {
+    const Boundary<DIM>& boundary = *this->Shape;
+    if (problem.Settings().Problem != Equation::Laplace || problem.GetSources() ||
+      problem.GetMixedBoundary())
+    {
+      throw std::invalid_argument(
+        "the boundary cache answers Laplace's equation with Dirichlet conditions only (yet)");
+    }
+    if (!boundary.IsMesh() || boundary.MeshPrimitives().empty())
+    {
+      throw std::invalid_argument("the boundary cache needs a mesh boundary");
+    }
+    if (settings.CachePoints < 2 || settings.WalksPerCachePoint < 2)
+    {
+      throw std::invalid_argument("the boundary cache needs at least 2 points and 2 walks each");
+    }
+    this->Components = boundary.Components();
+    this->BuildAreaTable();
+    this->DrawPoints();
+
+    // ∇u just inside each cache point, by the problem's gradient walks.
+    std::vector<std::array<double, 3>> inside(this->Points.size(), { 0.0, 0.0, 0.0 });
+    const double delta = settings.Offset * boundary.Diagonal();
+    for (std::size_t j = 0; j < this->Points.size(); ++j)
+    {
+      const Vec<DIM> y = this->Points[j] - delta * this->Normals[j];
+      for (int k = 0; k < DIM; ++k)
+      {
+        inside[j][static_cast<std::size_t>(k)] = y[k];
+      }
+    }
+    BatchRequest request;
+    request.WalksPerPoint = settings.WalksPerCachePoint;
+    request.Seed = settings.Seed;
+    request.Threads = settings.Threads;
+    request.Derivatives.Gradient = true;
+    const BatchEstimates walked = problem.EstimateAll(inside, request, progress);
+    this->CompleteBuild = walked.Summary.Completed;
+    this->WalksRun = walked.Summary.WalksRun;
+    const int gradient = walked.Summary.Layout.Gradient;
+    this->NormalDerivatives.assign(this->Points.size() * this->Components, 0.0);
+    for (std::size_t j = 0; j < this->Points.size(); ++j)
+    {
+      for (int c = 0; c < this->Components; ++c)
+      {
+        double q = 0.0;
+        for (int a = 0; a < DIM; ++a)
+        {
+          q += walked.Mean(j, gradient + c * DIM + a) * this->Normals[j][a];
+        }
+        this->NormalDerivatives[j * this->Components + c] = q;
+      }
+    }
+  }
+
+  bool Complete() const { return this->CompleteBuild; }
+  std::size_t Size() const { return this->Points.size(); }
+  std::uint64_t Walks() const { return this->WalksRun; }
+  int SolutionComponents() const { return this->Components; }
+  double ShellDistance() const { return this->Settings.ShellDistance * this->Shape->Diagonal(); }
+
+  // The cache points, their outward normals, boundary values and estimated
+  // normal derivatives (components per point).
+  const std::vector<Vec<DIM>>& CachePoints() const { return this->Points; }
+  const std::vector<Vec<DIM>>& CacheNormals() const { return this->Normals; }
+  const std::vector<double>& CacheValues() const { return this->Values; }
+  const std::vector<double>& CacheNormalDerivatives() const { return this->NormalDerivatives; }
+
+  // Answers every point (the first DIM of its coordinates), each point's
+  // terms summed in cache order: the same bits for any thread count.
+  void Evaluate(const std::vector<std::array<double, 3>>& at, bool gradient,
+    CacheEvaluation& out) const
+  {
+    const std::size_t n = at.size();
+    const int nc = this->Components;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.Value.assign(n * nc, nan);
+    out.ValueVariance.assign(n * nc, nan);
+    out.Gradient.assign(gradient ? n * nc * DIM : 0, nan);
+    out.GradientVariance.assign(gradient ? n * nc * DIM : 0, nan);
+    out.InShell.assign(n, 0);
+    out.Outside.assign(n, 0);
+    if (!this->CompleteBuild)
+    {
+      return;
+    }
+    const double shell = this->ShellDistance();
+    ParallelForWithProgress(
+      n, this->Settings.Threads,
+      [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          Vec<DIM> x;
+          bool finite = true;
+          for (int k = 0; k < DIM; ++k)
+          {
+            x[k] = at[i][static_cast<std::size_t>(k)];
+            finite = finite && std::isfinite(x[k]);
+          }
+          if (!finite)
+          {
+            continue;
+          }
+          const ClosestPointResult<DIM> hit = this->Shape->ClosestPoint(x);
+          if (hit.distance < shell)
+          {
+            out.InShell[i] = 1;
+            continue;
+          }
+          if (this->Shape->Side(x, hit) * this->Orientation > 0)
+          {
+            out.Outside[i] = 1;
+            continue;
+          }
+          this->EvaluatePoint(x, gradient, i, out);
+        }
+      },
+      [](double) { return true; }, 0.1, 16);
+  }
+
+private:
+  // Triangle (segment) areas and their running sums, for drawing points;
+  // the orientation that makes the primitives' normals point outward.
+  void BuildAreaTable()
+  {
+    const std::vector<Vec<DIM>>& v = this->Shape->MeshVertices();
+    const auto& primitives = this->Shape->MeshPrimitives();
+    this->CumulativeArea.resize(primitives.size());
+    double total = 0.0;
+    double signedMeasure = 0.0; // volume (3D) or area (2D) enclosed, signed
+    for (std::size_t p = 0; p < primitives.size(); ++p)
+    {
+      const auto& ids = primitives[p];
+      if constexpr (DIM == 3)
+      {
+        const Vec<3>& a = v[static_cast<std::size_t>(ids[0])];
+        const Vec<3>& b = v[static_cast<std::size_t>(ids[1])];
+        const Vec<3>& c = v[static_cast<std::size_t>(ids[2])];
+        total += 0.5 * (b - a).cross(c - a).norm();
+        signedMeasure += a.dot(b.cross(c)) / 6.0;
+      }
+      else
+      {
+        const Vec<2>& a = v[static_cast<std::size_t>(ids[0])];
+        const Vec<2>& b = v[static_cast<std::size_t>(ids[1])];
+        total += (b - a).norm();
+        signedMeasure += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+      }
+      this->CumulativeArea[p] = total;
+    }
+    if (!(total > 0.0) || !(std::abs(signedMeasure) > 0.0))
+    {
+      throw std::invalid_argument("the boundary cache needs a closed mesh enclosing a volume");
+    }
+    this->Area = total;
+    // 3D: right-handed triangles of a positive volume face outward; 2D: the
+    // left normal of a counter-clockwise loop faces inward.
+    this->Orientation = (DIM == 3) == (signedMeasure > 0.0) ? 1 : -1;
+  }
+
+  // M points uniform over the area, each from its own seeded stream.
+  void DrawPoints()
+  {
+    const std::vector<Vec<DIM>>& v = this->Shape->MeshVertices();
+    const auto& primitives = this->Shape->MeshPrimitives();
+    const std::size_t m = this->Settings.CachePoints;
+    this->Points.resize(m);
+    this->Normals.resize(m);
+    this->Values.resize(m * this->Components);
+    const std::uint64_t key = MixBits(this->Settings.Seed ^ 0x9e3779b97f4a7c15ULL);
+    std::vector<double> g(static_cast<std::size_t>(this->Components));
+    for (std::size_t j = 0; j < m; ++j)
+    {
+      RandomStream random(key, j);
+      const double pick = random.NextDouble() * this->Area;
+      const std::size_t p = std::min<std::size_t>(
+        static_cast<std::size_t>(
+          std::upper_bound(this->CumulativeArea.begin(), this->CumulativeArea.end(), pick) -
+          this->CumulativeArea.begin()),
+        primitives.size() - 1);
+      const auto& ids = primitives[p];
+      ClosestPointResult<DIM> hit;
+      hit.primitive = static_cast<std::int64_t>(p);
+      if constexpr (DIM == 3)
+      {
+        // Uniform on the triangle: barycentric (1 − √u, √u (1 − w), √u w).
+        const double su = std::sqrt(random.NextDouble());
+        const double w = random.NextDouble();
+        hit.barycentric = Vec<3>(1.0 - su, su * (1.0 - w), su * w);
+      }
+      else
+      {
+        const double t = random.NextDouble();
+        hit.barycentric = Vec<2>(1.0 - t, t);
+      }
+      hit.point = Vec<DIM>::Zero();
+      for (int k = 0; k < DIM; ++k)
+      {
+        hit.point += hit.barycentric[k] * v[static_cast<std::size_t>(ids[static_cast<std::size_t>(k)])];
+      }
+      hit.distance = 0.0;
+      this->Points[j] = hit.point;
+      this->Normals[j] = static_cast<double>(this->Orientation) * SimplexUnitNormal<DIM>(v, ids);
+      this->Shape->Evaluate(hit, g.data());
+      for (int c = 0; c < this->Components; ++c)
+      {
+        this->Values[j * this->Components + c] = g[static_cast<std::size_t>(c)];
+      }
+    }
+  }
+
+  // The mean of the terms T_j(x) and of their x-gradients, with the
+  // variances of those means (Welford, in cache order).
+  void EvaluatePoint(const Vec<DIM>& x, bool gradient, std::size_t i, CacheEvaluation& out) const
+  {
+    const int nc = this->Components;
+    const std::size_t m = this->Points.size();
+    constexpr double kUnitSphere = DIM == 3 ? 4.0 * 3.14159265358979323846 : 2.0 * 3.14159265358979323846;
+    std::vector<double> mean(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
+    std::vector<double> squares(mean.size(), 0.0);
+    std::vector<double> term(mean.size(), 0.0);
+    for (std::size_t j = 0; j < m; ++j)
+    {
+      const Vec<DIM> d = x - this->Points[j]; // x − z
+      const double r2 = d.squaredNorm();
+      const double r = std::sqrt(r2);
+      const Vec<DIM>& n = this->Normals[j];
+      const double dn = n.dot(d);
+      // G, P = ∂G/∂n_z, and their x-gradients.
+      double G, P;
+      Vec<DIM> dG, dP;
+      if constexpr (DIM == 3)
+      {
+        const double r3 = r2 * r;
+        G = 1.0 / (kUnitSphere * r);
+        P = dn / (kUnitSphere * r3);
+        dG = -d / (kUnitSphere * r3);
+        dP = n / (kUnitSphere * r3) - (3.0 * dn / (kUnitSphere * r3 * r2)) * d;
+      }
+      else
+      {
+        G = -std::log(r) / kUnitSphere;
+        P = dn / (kUnitSphere * r2);
+        dG = -d / (kUnitSphere * r2);
+        dP = n / (kUnitSphere * r2) - (2.0 * dn / (kUnitSphere * r2 * r2)) * d;
+      }
+      for (int c = 0; c < nc; ++c)
+      {
+        const double q = this->NormalDerivatives[j * nc + c];
+        const double g = this->Values[j * nc + c];
+        term[static_cast<std::size_t>(c)] = this->Area * (G * q - P * g);
+        for (int a = 0; a < DIM && gradient; ++a)
+        {
+          term[static_cast<std::size_t>(nc + c * DIM + a)] = this->Area * (dG[a] * q - dP[a] * g);
+        }
+      }
+      const double count = static_cast<double>(j + 1);
+      for (std::size_t s = 0; s < term.size(); ++s)
+      {
+        const double delta = term[s] - mean[s];
+        mean[s] += delta / count;
+        squares[s] += delta * (term[s] - mean[s]);
+      }
+    }
+    const double md = static_cast<double>(m);
+    for (int c = 0; c < nc; ++c)
+    {
+      out.Value[i * nc + c] = mean[static_cast<std::size_t>(c)];
+      out.ValueVariance[i * nc + c] = squares[static_cast<std::size_t>(c)] / (md * (md - 1.0));
+      for (int a = 0; a < DIM && gradient; ++a)
+      {
+        const std::size_t s = static_cast<std::size_t>(nc + c * DIM + a);
+        out.Gradient[(i * nc + c) * DIM + a] = mean[s];
+        out.GradientVariance[(i * nc + c) * DIM + a] = squares[s] / (md * (md - 1.0));
+      }
+    }
+  }
+
+  std::shared_ptr<const Boundary<DIM>> Shape;
+  BoundaryCacheSettings Settings;
+  int Components = 1;
+  double Area = 0.0;
+  int Orientation = 1;
+  std::vector<double> CumulativeArea;
+  std::vector<Vec<DIM>> Points, Normals;
+  std::vector<double> Values, NormalDerivatives;
+  bool CompleteBuild = false;
+  std::uint64_t WalksRun = 0;
+};
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,169 @@
+// Tests of gridfree/cache/BoundaryValueCache.h: every probe point answered
+// by the representation formula over one cache of boundary walks agrees
+// with the exact solution within its own error bar, the error bars are
+// calibrated over independent caches (points of one cache share it, so the
+// calibration pools several), the answer has the same bits for any thread
+// count, and points in the shell or outside are left to pointwise walks.
+#include <gridfree/cache/BoundaryValueCache.h>
+#include "EstimatorChecks.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+
+namespace
+{
+// u = x² − y² + 0.3 z (3D) or x² − y² + 0.3 y (2D), harmonic.
+template <int DIM>
+double CacheSaddle(const Vec<DIM>& x)
+{
+  return x[0] * x[0] - x[1] * x[1] + 0.3 * x[DIM - 1];
+}
+
+template <int DIM>
+Vec<DIM> CacheSaddleGradient(const Vec<DIM>& x)
+{
+  Vec<DIM> g = Vec<DIM>::Zero();
+  g[0] = 2.0 * x[0];
+  g[1] = -2.0 * x[1];
+  g[DIM - 1] += 0.3;
+  return g;
+}
+
+WalkSettings CacheLaplace()
+{
+  WalkSettings settings;
+  settings.Epsilon = 1e-4;
+  return settings;
+}
+
+// Probe points inside the unit ball (disc), clear of the shell.
+template <int DIM>
+std::vector<std::array<double, 3>> CacheProbe(int count, double radius)
+{
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < count; ++i)
+  {
+    // A deterministic spiral of radii and directions.
+    const double t = (i + 0.5) / count;
+    const double rho = radius * std::cbrt(t);
+    const double phi = 2.399963229728653 * i;
+    const double z = DIM == 3 ? 1.0 - 2.0 * t : 0.0;
+    const double s = DIM == 3 ? std::sqrt(std::max(0.0, 1.0 - z * z)) : 1.0;
+    points.push_back({ rho * s * std::cos(phi), rho * s * std::sin(phi), rho * z });
+  }
+  return points;
+}
+
+struct CachePooled
+{
+  double SumZ2 = 0.0;
+  double MaxAbsZ = 0.0;
+  int Count = 0;
+  void Add(double estimate, double variance, double exact)
+  {
+    const double z = (estimate - exact) / std::sqrt(variance);
+    SumZ2 += z * z;
+    MaxAbsZ = std::max(MaxAbsZ, std::abs(z));
+    ++Count;
+  }
+  double MeanZ2() const { return SumZ2 / Count; }
+};
+
+template <int DIM>
+void ExpectCalibratedCaches(const SimplexMesh<DIM>& mesh, double probeRadius, int caches)
+{
+  const auto boundary =
+    std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { CacheSaddle<DIM> }));
+  const Problem<DIM> problem(boundary, CacheLaplace());
+  const auto points = CacheProbe<DIM>(40, probeRadius);
+  CachePooled values, gradients;
+  for (int k = 0; k < caches; ++k)
+  {
+    BoundaryCacheSettings settings;
+    settings.CachePoints = 2048;
+    settings.WalksPerCachePoint = 32;
+    settings.Seed = 100 + static_cast<std::uint64_t>(k);
+    const BoundaryValueCache<DIM> cache(problem, settings);
+    ASSERT_TRUE(cache.Complete());
+    CacheEvaluation answer;
+    cache.Evaluate(points, true, answer);
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      ASSERT_FALSE(answer.InShell[i]) << i;
+      ASSERT_FALSE(answer.Outside[i]) << i;
+      Vec<DIM> x;
+      for (int a = 0; a < DIM; ++a)
+      {
+        x[a] = points[i][static_cast<std::size_t>(a)];
+      }
+      values.Add(answer.Value[i], answer.ValueVariance[i], CacheSaddle<DIM>(x));
+      const Vec<DIM> exact = CacheSaddleGradient<DIM>(x);
+      for (int a = 0; a < DIM; ++a)
+      {
+        gradients.Add(answer.Gradient[i * DIM + a], answer.GradientVariance[i * DIM + a], exact[a]);
+      }
+    }
+  }
+  EXPECT_LT(values.MaxAbsZ, 5.0);
+  EXPECT_GT(values.MeanZ2(), 0.7);
+  EXPECT_LT(values.MeanZ2(), 1.4);
+  EXPECT_LT(gradients.MaxAbsZ, 5.0);
+  EXPECT_GT(gradients.MeanZ2(), 0.7);
+  EXPECT_LT(gradients.MeanZ2(), 1.4);
+}
+} // namespace
+
+TEST(BoundaryValueCache, CalibratedInTheBall)
+{
+  ExpectCalibratedCaches<3>(MakeIcosphere(4), 0.8, 12);
+}
+
+TEST(BoundaryValueCache, CalibratedInTheDisc)
+{
+  ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 12);
+}
+
+// The same bits for one thread and two; the shell and the outside are
+// flagged, not answered; what the cache cannot answer is refused.
+TEST(BoundaryValueCache, ThreadsShellOutsideAndRefusals)
+{
+  const auto boundary =
+    std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(3), { CacheSaddle<3> }));
+  const Problem<3> problem(boundary, CacheLaplace());
+  const std::vector<std::array<double, 3>> points = { { 0.1, 0.2, 0.3 }, { 0.0, 0.0, 0.97 },
+    { 2.0, 0.0, 0.0 }, { 0.5, -0.2, 0.1 } };
+  CacheEvaluation one, two;
+  for (int threads : { 1, 2 })
+  {
+    BoundaryCacheSettings settings;
+    settings.CachePoints = 256;
+    settings.WalksPerCachePoint = 16;
+    settings.Threads = threads;
+    const BoundaryValueCache<3> cache(problem, settings);
+    cache.Evaluate(points, true, threads == 1 ? one : two);
+  }
+  ASSERT_EQ(one.Value.size(), two.Value.size());
+  EXPECT_EQ(0, std::memcmp(one.Value.data(), two.Value.data(), one.Value.size() * sizeof(double)));
+  EXPECT_EQ(0,
+    std::memcmp(one.Gradient.data(), two.Gradient.data(), one.Gradient.size() * sizeof(double)));
+  EXPECT_EQ(one.InShell, (std::vector<unsigned char>{ 0, 1, 0, 0 }));
+  EXPECT_EQ(one.Outside, (std::vector<unsigned char>{ 0, 0, 1, 0 }));
+  EXPECT_TRUE(std::isfinite(one.Value[0]));
+  EXPECT_TRUE(std::isnan(one.Value[1]));
+  EXPECT_TRUE(std::isnan(one.Value[2]));
+
+  WalkSettings poisson = CacheLaplace();
+  poisson.Problem = Equation::ScreenedPoisson;
+  poisson.ScreeningCoefficient = 1.0;
+  const Problem<3> screened(boundary, poisson);
+  EXPECT_THROW(BoundaryValueCache<3>(screened, BoundaryCacheSettings()), std::invalid_argument);
+}
