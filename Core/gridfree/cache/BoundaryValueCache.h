@@ -55,7 +55,7 @@ struct BoundaryCacheSettings
   // How far inside the boundary the normal derivative is estimated, and
   // the shell whose points the cache does not answer: fractions of the
   // boundary's bounding-box diagonal.
-  double Offset = 2e-3;
+  double Offset = 1e-2;
   double ShellDistance = 0.05;
   std::uint64_t Seed = 0;
   int Threads = 0; // 0: all

@@ -127,9 +127,11 @@ TEST(BoundaryValueCache, CalibratedInTheBall)
   ExpectCalibratedCaches<3>(MakeIcosphere(4), 0.8, 12);
 }
 
+// In 2D the error bars come out about 15% wide (mean z² 0.85 over 48
+// caches): the pooled figure needs many caches to settle.
 TEST(BoundaryValueCache, CalibratedInTheDisc)
 {
-  ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 12);
+  ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 48);
 }
 
 // The same bits for one thread and two; the shell and the outside are
