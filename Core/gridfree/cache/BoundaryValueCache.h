@@ -11,20 +11,24 @@
 //   u(x) = ∫_∂Ω [ G(x, z) ∂u/∂n(z) − P(x, z) g(z) ] dz,
 //   ∇u(x) = ∫_∂Ω [ ∇ₓG(x, z) ∂u/∂n(z) − ∇ₓP(x, z) g(z) ] dz.
 //
-// g is known; ∂u/∂n is not. The cache draws M points z_j uniformly over the
-// boundary's area A (a seeded stream per point: the same cache for any
-// thread count) and estimates ∂u/∂n(z_j) as ∇u·n at y_j = z_j − δ n_j, just
-// inside, by the problem's own gradient walks (one batch for all of them).
-// A probe point x then takes the mean of the M terms
+// g is known; ∂u/∂n is not. The cache cuts the boundary into K = M/2
+// strata of equal area (triangles in Morton order of their centroids, so a
+// stratum is a compact patch), draws two points z_j uniformly in each (a
+// seeded stream per point: the same cache for any thread count) and
+// estimates ∂u/∂n(z_j) as ∇u·n at y_j = z_j − δ n_j, just inside, by the
+// problem's own gradient walks (one batch for all of them). A probe point x
+// then takes the stratified mean of the terms
 //
 //   T_j(x) = A [ G(x, z_j) q_j − P(x, z_j) g(z_j) ],   q_j = ∇̂u(y_j)·n_j,
 //
-// which are independent draws (each z_j and its walks are): the mean is
-// unbiased but for the offset (∂u/∂n at depth δ rather than on the
-// boundary, O(δ |∇²u|)), and its error bar is the terms' sample variance
-// over M, calibrated at every point although nearby points share the cache
-// (their errors are correlated: a smooth picture whose error does not
-// average out along a slice).
+// u(x) ≈ (1/K) Σ_k (T_2k + T_2k+1)/2, whose variance is estimated without
+// bias by (1/K²) Σ_k (T_2k − T_2k+1)²/4: the two draws of a stratum, and
+// their walks, are independent. The mean is unbiased but for the offset
+// (∂u/∂n at depth δ rather than on the boundary), and the error bar is
+// calibrated at every point although nearby points share the cache (their
+// errors are correlated: a smooth picture whose error does not average out
+// along a slice). Stratifying removes most of the spread that the random
+// positions of independent draws add.
 //
 // The kernels grow like 1/r² (3D) as x nears the boundary, and with them
 // the variance: points closer than the shell distance are not answered here
@@ -44,13 +48,14 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace gridfree
 {
 struct BoundaryCacheSettings
 {
-  std::size_t CachePoints = 4096;
+  std::size_t CachePoints = 4096; // two per stratum: rounded up to even
   int WalksPerCachePoint = 64;
   // How far inside the boundary the normal derivative is estimated, and
   // the shell whose points the cache does not answer: fractions of the
@@ -70,6 +75,56 @@ struct CacheEvaluation
   std::vector<double> Gradient, GradientVariance; // points × components × DIM
   std::vector<unsigned char> InShell, Outside;
 };
+
+namespace detail
+{
+// Spreads the low 21 (3D) or 32 (2D) bits of v so that DIM coordinates
+// interleave.
+inline std::uint64_t SpreadBits(std::uint64_t v, int dim)
+{
+  std::uint64_t r = 0;
+  const int bits = dim == 3 ? 21 : 32;
+  for (int b = 0; b < bits; ++b)
+  {
+    r |= ((v >> b) & 1ULL) << (dim * b);
+  }
+  return r;
+}
+
+// The primitives sorted by the Morton code of their centroids in the box
+// (ties by index): neighbours in the order are neighbours in space.
+template <int DIM, class Primitives>
+std::vector<std::size_t> MortonOrder(const std::vector<Vec<DIM>>& v, const Primitives& primitives,
+  const Vec<DIM>& lo, const Vec<DIM>& hi)
+{
+  const int bits = DIM == 3 ? 21 : 32;
+  const double cells = static_cast<double>((1ULL << bits) - 1);
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys(primitives.size());
+  for (std::size_t p = 0; p < primitives.size(); ++p)
+  {
+    Vec<DIM> c = Vec<DIM>::Zero();
+    for (int k = 0; k < DIM; ++k)
+    {
+      c += v[static_cast<std::size_t>(primitives[p][static_cast<std::size_t>(k)])] / DIM;
+    }
+    std::uint64_t code = 0;
+    for (int a = 0; a < DIM; ++a)
+    {
+      const double extent = hi[a] - lo[a];
+      const double t = extent > 0.0 ? std::clamp((c[a] - lo[a]) / extent, 0.0, 1.0) : 0.0;
+      code |= SpreadBits(static_cast<std::uint64_t>(t * cells), DIM) << a;
+    }
+    keys[p] = { code, p };
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::size_t> order(primitives.size());
+  for (std::size_t o = 0; o < keys.size(); ++o)
+  {
+    order[o] = keys[o].second;
+  }
+  return order;
+}
+} // namespace detail
 
 template <int DIM>
 class BoundaryValueCache
@@ -205,17 +260,20 @@ public:
   }
 
 private:
-  // Triangle (segment) areas and their running sums, for drawing points;
-  // the orientation that makes the primitives' normals point outward.
+  // Triangle (segment) areas and their running sums in Morton order, for
+  // drawing points by strata; the orientation that makes the primitives'
+  // normals point outward.
   void BuildAreaTable()
   {
     const std::vector<Vec<DIM>>& v = this->Shape->MeshVertices();
     const auto& primitives = this->Shape->MeshPrimitives();
+    this->Order = detail::MortonOrder<DIM>(v, primitives, this->Shape->BoundsMin(), this->Shape->BoundsMax());
     this->CumulativeArea.resize(primitives.size());
     double total = 0.0;
     double signedMeasure = 0.0; // volume (3D) or area (2D) enclosed, signed
-    for (std::size_t p = 0; p < primitives.size(); ++p)
+    for (std::size_t o = 0; o < primitives.size(); ++o)
     {
+      const std::size_t p = this->Order[o];
       const auto& ids = primitives[p];
       if constexpr (DIM == 3)
       {
@@ -232,7 +290,7 @@ private:
         total += (b - a).norm();
         signedMeasure += 0.5 * (a[0] * b[1] - b[0] * a[1]);
       }
-      this->CumulativeArea[p] = total;
+      this->CumulativeArea[o] = total;
     }
     if (!(total > 0.0) || !(std::abs(signedMeasure) > 0.0))
     {
@@ -244,12 +302,14 @@ private:
     this->Orientation = (DIM == 3) == (signedMeasure > 0.0) ? 1 : -1;
   }
 
-  // M points uniform over the area, each from its own seeded stream.
+  // Two points uniform over each of the M/2 strata of equal area, each
+  // from its own seeded stream.
   void DrawPoints()
   {
     const std::vector<Vec<DIM>>& v = this->Shape->MeshVertices();
     const auto& primitives = this->Shape->MeshPrimitives();
-    const std::size_t m = this->Settings.CachePoints;
+    const std::size_t m = 2 * ((this->Settings.CachePoints + 1) / 2);
+    const double stratum = this->Area / static_cast<double>(m / 2);
     this->Points.resize(m);
     this->Normals.resize(m);
     this->Values.resize(m * this->Components);
@@ -258,12 +318,12 @@ private:
     for (std::size_t j = 0; j < m; ++j)
     {
       RandomStream random(key, j);
-      const double pick = random.NextDouble() * this->Area;
-      const std::size_t p = std::min<std::size_t>(
+      const double pick = (static_cast<double>(j / 2) + random.NextDouble()) * stratum;
+      const std::size_t p = this->Order[std::min<std::size_t>(
         static_cast<std::size_t>(
           std::upper_bound(this->CumulativeArea.begin(), this->CumulativeArea.end(), pick) -
           this->CumulativeArea.begin()),
-        primitives.size() - 1);
+        primitives.size() - 1)];
       const auto& ids = primitives[p];
       ClosestPointResult<DIM> hit;
       hit.primitive = static_cast<std::int64_t>(p);
@@ -295,16 +355,17 @@ private:
     }
   }
 
-  // The mean of the terms T_j(x) and of their x-gradients, with the
-  // variances of those means (Welford, in cache order).
+  // The stratified mean of the terms T_j(x) and of their x-gradients, with
+  // the variances of those means from each stratum's two draws, summed in
+  // cache order.
   void EvaluatePoint(const Vec<DIM>& x, bool gradient, std::size_t i, CacheEvaluation& out) const
   {
     const int nc = this->Components;
     const std::size_t m = this->Points.size();
     constexpr double kUnitSphere = DIM == 3 ? 4.0 * 3.14159265358979323846 : 2.0 * 3.14159265358979323846;
-    std::vector<double> mean(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
-    std::vector<double> squares(mean.size(), 0.0);
-    std::vector<double> term(mean.size(), 0.0);
+    std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
+    std::vector<double> squares(sum.size(), 0.0);
+    std::vector<double> term(sum.size(), 0.0), first(sum.size(), 0.0);
     for (std::size_t j = 0; j < m; ++j)
     {
       const Vec<DIM> d = x - this->Points[j]; // x − z
@@ -340,24 +401,27 @@ private:
           term[static_cast<std::size_t>(nc + c * DIM + a)] = this->Area * (dG[a] * q - dP[a] * g);
         }
       }
-      const double count = static_cast<double>(j + 1);
+      if (j % 2 == 0)
+      {
+        first = term;
+        continue;
+      }
       for (std::size_t s = 0; s < term.size(); ++s)
       {
-        const double delta = term[s] - mean[s];
-        mean[s] += delta / count;
-        squares[s] += delta * (term[s] - mean[s]);
+        sum[s] += 0.5 * (first[s] + term[s]);
+        squares[s] += 0.25 * (first[s] - term[s]) * (first[s] - term[s]);
       }
     }
-    const double md = static_cast<double>(m);
+    const double strata = static_cast<double>(m / 2);
     for (int c = 0; c < nc; ++c)
     {
-      out.Value[i * nc + c] = mean[static_cast<std::size_t>(c)];
-      out.ValueVariance[i * nc + c] = squares[static_cast<std::size_t>(c)] / (md * (md - 1.0));
+      out.Value[i * nc + c] = sum[static_cast<std::size_t>(c)] / strata;
+      out.ValueVariance[i * nc + c] = squares[static_cast<std::size_t>(c)] / (strata * strata);
       for (int a = 0; a < DIM && gradient; ++a)
       {
         const std::size_t s = static_cast<std::size_t>(nc + c * DIM + a);
-        out.Gradient[(i * nc + c) * DIM + a] = mean[s];
-        out.GradientVariance[(i * nc + c) * DIM + a] = squares[s] / (md * (md - 1.0));
+        out.Gradient[(i * nc + c) * DIM + a] = sum[s] / strata;
+        out.GradientVariance[(i * nc + c) * DIM + a] = squares[s] / (strata * strata);
       }
     }
   }
@@ -367,6 +431,7 @@ private:
   int Components = 1;
   double Area = 0.0;
   int Orientation = 1;
+  std::vector<std::size_t> Order; // primitives in Morton order
   std::vector<double> CumulativeArea;
   std::vector<Vec<DIM>> Points, Normals;
   std::vector<double> Values, NormalDerivatives;

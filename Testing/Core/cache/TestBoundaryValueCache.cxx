@@ -127,8 +127,8 @@ TEST(BoundaryValueCache, CalibratedInTheBall)
   ExpectCalibratedCaches<3>(MakeIcosphere(4), 0.8, 12);
 }
 
-// In 2D the error bars come out about 15% wide (mean z² 0.85 over 48
-// caches): the pooled figure needs many caches to settle.
+// In 2D the error bars come out about 10–15% wide (mean z² 0.83–0.85 over
+// 48 caches): the pooled figure needs many caches to settle.
 TEST(BoundaryValueCache, CalibratedInTheDisc)
 {
   ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 48);
