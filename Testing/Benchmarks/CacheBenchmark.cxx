@@ -78,6 +78,8 @@ int main(int argc, char** argv)
   double offset = BoundaryCacheSettings().Offset;
   bool quick = false;
   int seeds = 4;
+  std::vector<std::size_t> cacheSizes = { 1024, 4096, 16384 };
+  std::vector<int> cacheWalks = { 16, 64 };
   for (int a = 1; a < argc; ++a)
   {
     if (!std::strcmp(argv[a], "--levels") && a + 1 < argc)
@@ -91,6 +93,12 @@ int main(int argc, char** argv)
     else if (!std::strcmp(argv[a], "--seeds") && a + 1 < argc)
     {
       seeds = std::max(1, std::atoi(argv[++a]));
+    }
+    else if (!std::strcmp(argv[a], "--cache") && a + 2 < argc)
+    {
+      // One cache size instead of the sweep: --cache POINTS WALKS.
+      cacheSizes = { static_cast<std::size_t>(std::atol(argv[++a])) };
+      cacheWalks = { std::atoi(argv[++a]) };
     }
     else if (!std::strcmp(argv[a], "--quick"))
     {
@@ -170,11 +178,11 @@ int main(int argc, char** argv)
     }
   }
   // The cache outside the shell.
-  for (std::size_t points : { std::size_t(1024), std::size_t(4096), std::size_t(16384) })
+  for (std::size_t points : cacheSizes)
   {
-    for (int walks : { 16, 64 })
+    for (int walks : cacheWalks)
     {
-      if (quick && points != 16384)
+      if (quick && points != 16384 && cacheSizes.size() > 1)
       {
         continue;
       }
@@ -215,6 +223,38 @@ int main(int argc, char** argv)
                   "mean z2 %.2f over %d caches) | %.2f | %.2e | %.2e (the shell's %.2f s) |\n",
         points, walks, offset, build, evaluate, sumZ2 / zCount, seeds, build + evaluate,
         outside.Rmse(), shellErrors.Rmse(), shellSeconds);
+      // The same caches with the exact ∂u/∂n: the positions' share of the error.
+      Errors positional;
+      if (walks == cacheWalks.back())
+      {
+        for (int seed = 0; seed < seeds; ++seed)
+        {
+          BoundaryCacheSettings settings;
+          settings.Offset = offset;
+          settings.CachePoints = points;
+          settings.WalksPerCachePoint = 2;
+          settings.Seed = static_cast<std::uint64_t>(seed);
+          const BoundaryValueCache<3> cache(problem, settings);
+          std::vector<double> exact(cache.Size());
+          for (std::size_t j = 0; j < cache.Size(); ++j)
+          {
+            const Vec3& z = cache.CachePoints()[j];
+            exact[j] = Vec3(2.0 * z[0], -2.0 * z[1], 0.3).dot(cache.CacheNormals()[j]);
+          }
+          CacheEvaluation answer;
+          cache.WithNormalDerivatives(exact).Evaluate(slice.Points, false, answer);
+          for (std::size_t i = 0; i < slice.Points.size(); ++i)
+          {
+            if (!answer.InShell[i])
+            {
+              positional.Add(answer.Value[i], slice.Exact[i]);
+            }
+          }
+        }
+        std::printf("| cache, exact normal derivatives | %zu points (the positions' error) | | "
+                    "%.2e | |\n",
+          points, positional.Rmse());
+      }
     }
   }
   return 0;

@@ -206,6 +206,21 @@ public:
   const std::vector<Vec<DIM>>& CacheNormals() const { return this->Normals; }
   const std::vector<double>& CacheValues() const { return this->Values; }
   const std::vector<double>& CacheNormalDerivatives() const { return this->NormalDerivatives; }
+  double BoundaryArea() const { return this->Area; }
+
+  // The same cache with other normal derivatives (components per point):
+  // with exact ones, what is left of the error is the positions' (a
+  // diagnostic of the benchmark and the tests).
+  BoundaryValueCache WithNormalDerivatives(std::vector<double> derivatives) const
+  {
+    if (derivatives.size() != this->NormalDerivatives.size())
+    {
+      throw std::invalid_argument("normal derivatives: one per cache point and component");
+    }
+    BoundaryValueCache other = *this;
+    other.NormalDerivatives = std::move(derivatives);
+    return other;
+  }
 
   // Answers every point (the first DIM of its coordinates), each point's
   // terms summed in cache order: the same bits for any thread count.
