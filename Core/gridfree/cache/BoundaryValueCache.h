@@ -4,12 +4,17 @@
 // probe point is then answered by Green's representation formula, with no
 // walks of its own.
 //
-// For −Δu = 0 in Ω, with the free-space Green's function G (3D: 1/(4π r);
-// 2D: −ln r/(2π)) and P = ∂G/∂n_z its derivative along the outward normal
-// at the boundary point z, every x inside Ω has
+// For Δu − c·u = f in Ω (c = 0: Laplace, Poisson; WalkOnSpheres.h's
+// convention), with the free-space Green's function G of −Δ + c (3D:
+// e^{−√c r}/(4π r); 2D: K0(√c r)/(2π), −ln r/(2π) for c = 0) and
+// P = ∂G/∂n_z its derivative along the outward normal at the boundary point
+// z, every x inside Ω has
 //
-//   u(x) = ∫_∂Ω [ G(x, z) ∂u/∂n(z) − P(x, z) g(z) ] dz,
-//   ∇u(x) = ∫_∂Ω [ ∇ₓG(x, z) ∂u/∂n(z) − ∇ₓP(x, z) g(z) ] dz.
+//   u(x) = ∫_∂Ω [ G(x, z) ∂u/∂n(z) − P(x, z) g(z) ] dz − ∫_Ω G(x, y) f(y) dy,
+//
+// and ∇u(x) the same with ∇ₓG and ∇ₓP. The volume integral takes two
+// points in each cell of a grid over the boundary's box (those outside Ω
+// count zero), stratified as the boundary's.
 //
 // g is known; ∂u/∂n is not. The cache cuts the boundary into K = M/2
 // strata of equal area (triangles in Morton order of their centroids, so a
@@ -38,6 +43,7 @@
 
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
+#include <gridfree/math/BesselFunctions.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sampling/Random.h>
 
@@ -56,6 +62,9 @@ namespace gridfree
 struct BoundaryCacheSettings
 {
   std::size_t CachePoints = 4096; // two per stratum: rounded up to even
+  // Points of the volume integral of a source (two per cell of a grid over
+  // the boundary's box).
+  std::size_t VolumePoints = 8192;
   int WalksPerCachePoint = 64;
   // How far inside the boundary the normal derivative is estimated, and
   // the shell whose points the cache does not answer: fractions of the
@@ -141,12 +150,21 @@ public:
     , Settings(settings)
   {
     const Boundary<DIM>& boundary = *this->Shape;
-    if (problem.Settings().Problem != Equation::Laplace || problem.GetSources() ||
-      problem.GetMixedBoundary())
+    const Equation equation = problem.Settings().Problem;
+    if (equation == Equation::Biharmonic || problem.GetMixedBoundary())
+    {
+      throw std::invalid_argument("the boundary cache answers Laplace's, Poisson's and the "
+                                  "screened Poisson equation with Dirichlet conditions only (yet)");
+    }
+    const SourceSet<DIM>* sources = problem.GetSources();
+    if (sources && (sources->Points || sources->Curves))
     {
       throw std::invalid_argument(
-        "the boundary cache answers Laplace's equation with Dirichlet conditions only (yet)");
+        "the boundary cache takes volume sources only (yet): no point or curve sources");
     }
+    this->Screening = equation == Equation::ScreenedPoisson
+      ? std::sqrt(problem.Settings().ScreeningCoefficient)
+      : 0.0;
     if (!boundary.IsMesh() || boundary.MeshPrimitives().empty())
     {
       throw std::invalid_argument("the boundary cache needs a mesh boundary");
@@ -158,6 +176,10 @@ public:
     this->Components = boundary.Components();
     this->BuildAreaTable();
     this->DrawPoints();
+    if (equation != Equation::Laplace && sources && sources->MakeVolume)
+    {
+      this->DrawVolumePoints(*sources->MakeVolume(boundary.Diagonal()));
+    }
 
     // ∇u just inside each cache point, by the problem's gradient walks.
     std::vector<std::array<double, 3>> inside(this->Points.size(), { 0.0, 0.0, 0.0 });
@@ -377,7 +399,6 @@ private:
   {
     const int nc = this->Components;
     const std::size_t m = this->Points.size();
-    constexpr double kUnitSphere = DIM == 3 ? 4.0 * 3.14159265358979323846 : 2.0 * 3.14159265358979323846;
     std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
     std::vector<double> squares(sum.size(), 0.0);
     std::vector<double> term(sum.size(), 0.0), first(sum.size(), 0.0);
@@ -388,24 +409,13 @@ private:
       const double r = std::sqrt(r2);
       const Vec<DIM>& n = this->Normals[j];
       const double dn = n.dot(d);
-      // G, P = ∂G/∂n_z, and their x-gradients.
-      double G, P;
-      Vec<DIM> dG, dP;
-      if constexpr (DIM == 3)
-      {
-        const double r3 = r2 * r;
-        G = 1.0 / (kUnitSphere * r);
-        P = dn / (kUnitSphere * r3);
-        dG = -d / (kUnitSphere * r3);
-        dP = n / (kUnitSphere * r3) - (3.0 * dn / (kUnitSphere * r3 * r2)) * d;
-      }
-      else
-      {
-        G = -std::log(r) / kUnitSphere;
-        P = dn / (kUnitSphere * r2);
-        dG = -d / (kUnitSphere * r2);
-        dP = n / (kUnitSphere * r2) - (2.0 * dn / (kUnitSphere * r2 * r2)) * d;
-      }
+      // G, P = ∂G/∂n_z = −G′ (n·d)/r, and their x-gradients
+      // ∇G = G′ d/r, ∇P = −(G″ − G′/r)(n·d) d/r² − G′ n/r.
+      const Kernel k = this->KernelAt(r);
+      const double G = k.G;
+      const double P = -k.G1 * dn / r;
+      const Vec<DIM> dG = (k.G1 / r) * d;
+      const Vec<DIM> dP = (-(k.G2 - k.G1 / r) * dn / r2) * d - (k.G1 / r) * n;
       for (int c = 0; c < nc; ++c)
       {
         const double q = this->NormalDerivatives[j * nc + c];
@@ -428,6 +438,40 @@ private:
       }
     }
     const double strata = static_cast<double>(m / 2);
+    // The source's volume integral, −∫ G f, stratified over its cells: the
+    // cells' sums and variances added to the boundary's (independent draws).
+    std::vector<double> volume(sum.size(), 0.0), volumeSquares(sum.size(), 0.0);
+    for (std::size_t j = 0; j < this->VolumeSamples.size(); ++j)
+    {
+      const Vec<DIM> d = x - this->VolumeSamples[j];
+      const double r = d.norm();
+      const Kernel k = this->KernelAt(r);
+      for (int c = 0; c < nc; ++c)
+      {
+        const double f = this->VolumeValues[j * nc + c];
+        term[static_cast<std::size_t>(c)] = -this->CellVolume * k.G * f;
+        for (int a = 0; a < DIM && gradient; ++a)
+        {
+          term[static_cast<std::size_t>(nc + c * DIM + a)] = -this->CellVolume * k.G1 * d[a] / r * f;
+        }
+      }
+      if (j % 2 == 0)
+      {
+        first = term;
+        continue;
+      }
+      for (std::size_t s = 0; s < term.size(); ++s)
+      {
+        volume[s] += 0.5 * (first[s] + term[s]);
+        volumeSquares[s] += 0.25 * (first[s] - term[s]) * (first[s] - term[s]);
+      }
+    }
+    for (std::size_t s = 0; s < sum.size(); ++s)
+    {
+      // In units of the boundary's strata: the mean is sum / strata.
+      sum[s] += volume[s] * strata;
+      squares[s] += volumeSquares[s] * strata * strata;
+    }
     for (int c = 0; c < nc; ++c)
     {
       out.Value[i * nc + c] = sum[static_cast<std::size_t>(c)] / strata;
@@ -441,8 +485,102 @@ private:
     }
   }
 
+  // The free-space Green's function of −Δ + s² at distance r, and its first
+  // two derivatives in r.
+  struct Kernel
+  {
+    double G, G1, G2;
+  };
+  Kernel KernelAt(double r) const
+  {
+    constexpr double kPi = 3.14159265358979323846;
+    const double s = this->Screening;
+    if constexpr (DIM == 3)
+    {
+      const double e = s > 0.0 ? std::exp(-s * r) : 1.0;
+      const double G = e / (4.0 * kPi * r);
+      const double G1 = -G * (1.0 + s * r) / r;
+      const double G2 = G * (2.0 + 2.0 * s * r + s * s * r * r) / (r * r);
+      return { G, G1, G2 };
+    }
+    else
+    {
+      if (!(s > 0.0))
+      {
+        return { -std::log(r) / (2.0 * kPi), -1.0 / (2.0 * kPi * r), 1.0 / (2.0 * kPi * r * r) };
+      }
+      // K0′(x) = −K1(x), K0″(x) = K0(x) + K1(x)/x, with the scaled forms.
+      const double x = s * r;
+      const double e = std::exp(-x);
+      const double k0 = BesselK0Scaled(x) * e;
+      const double k1 = BesselK1Scaled(x) * e;
+      return { k0 / (2.0 * kPi), -s * k1 / (2.0 * kPi), s * s * (k0 + k1 / x) / (2.0 * kPi) };
+    }
+  }
+
+  // Two points uniform in each cell of a grid of about VolumePoints/2 cells
+  // over the boundary's box, with the source there (0 outside Ω).
+  void DrawVolumePoints(VolumeSource<DIM>& source)
+  {
+    const Boundary<DIM>& boundary = *this->Shape;
+    const Vec<DIM> lo = boundary.BoundsMin();
+    const Vec<DIM> extent = boundary.BoundsMax() - lo;
+    const double cells = static_cast<double>(std::max<std::size_t>(1, this->Settings.VolumePoints / 2));
+    double boxVolume = 1.0;
+    for (int a = 0; a < DIM; ++a)
+    {
+      boxVolume *= extent[a];
+    }
+    const double side = std::pow(boxVolume / cells, 1.0 / DIM);
+    std::array<std::int64_t, DIM> counts;
+    std::size_t total = 1;
+    Vec<DIM> cell;
+    for (int a = 0; a < DIM; ++a)
+    {
+      counts[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[a] / side)));
+      cell[a] = extent[a] / static_cast<double>(counts[a]);
+      total *= static_cast<std::size_t>(counts[a]);
+    }
+    this->CellVolume = 1.0;
+    for (int a = 0; a < DIM; ++a)
+    {
+      this->CellVolume *= cell[a];
+    }
+    const std::uint64_t key = MixBits(this->Settings.Seed ^ 0x6a09e667f3bcc909ULL);
+    std::vector<double> f(static_cast<std::size_t>(this->Components));
+    this->VolumeSamples.resize(2 * total);
+    this->VolumeValues.assign(2 * total * this->Components, 0.0);
+    for (std::size_t j = 0; j < 2 * total; ++j)
+    {
+      RandomStream random(key, j);
+      std::size_t index = j / 2;
+      Vec<DIM> y;
+      for (int a = 0; a < DIM; ++a)
+      {
+        const auto at = static_cast<std::int64_t>(index % static_cast<std::size_t>(counts[a]));
+        index /= static_cast<std::size_t>(counts[a]);
+        y[a] = lo[a] + (static_cast<double>(at) + random.NextDouble()) * cell[a];
+      }
+      this->VolumeSamples[j] = y;
+      const ClosestPointResult<DIM> hit = boundary.ClosestPoint(y);
+      if (boundary.Side(y, hit) * this->Orientation > 0 || hit.distance <= 0.0)
+      {
+        continue; // outside Ω: no source
+      }
+      source.Evaluate(y, f.data());
+      for (int c = 0; c < this->Components; ++c)
+      {
+        this->VolumeValues[j * this->Components + c] = f[static_cast<std::size_t>(c)];
+      }
+    }
+  }
+
   std::shared_ptr<const Boundary<DIM>> Shape;
   BoundaryCacheSettings Settings;
+  double Screening = 0.0; // √c
+  std::vector<Vec<DIM>> VolumeSamples;
+  std::vector<double> VolumeValues;
+  double CellVolume = 0.0;
   int Components = 1;
   double Area = 0.0;
   int Orientation = 1;

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -78,12 +79,33 @@ struct CachePooled
   double MeanZ2() const { return SumZ2 / Count; }
 };
 
+// An equation with its exact solution u, ∇u and the source f of Δu − c·u = f.
 template <int DIM>
-void ExpectCalibratedCaches(const SimplexMesh<DIM>& mesh, double probeRadius, int caches)
+struct CacheCase
 {
-  const auto boundary =
-    std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { CacheSaddle<DIM> }));
-  const Problem<DIM> problem(boundary, CacheLaplace());
+  Equation Kind = Equation::Laplace;
+  double Screening = 0.0;
+  Field<DIM> U = CacheSaddle<DIM>;
+  std::function<Vec<DIM>(const Vec<DIM>&)> Gradient = CacheSaddleGradient<DIM>;
+  Field<DIM> F; // empty: none
+};
+
+template <int DIM>
+void ExpectCalibratedCaches(
+  const SimplexMesh<DIM>& mesh, double probeRadius, int caches, const CacheCase<DIM>& with = {})
+{
+  const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { with.U }));
+  WalkSettings walk = CacheLaplace();
+  walk.Problem = with.Kind;
+  walk.ScreeningCoefficient = with.Screening;
+  std::shared_ptr<SourceSet<DIM>> sources;
+  if (with.F)
+  {
+    sources = std::make_shared<SourceSet<DIM>>();
+    const Field<DIM> f = with.F;
+    sources->MakeVolume = [f](double) { return std::make_unique<FunctionSource<DIM>>(f); };
+  }
+  const Problem<DIM> problem(boundary, walk, sources);
   const auto points = CacheProbe<DIM>(40, probeRadius);
   CachePooled values, gradients;
   for (int k = 0; k < caches; ++k)
@@ -105,8 +127,8 @@ void ExpectCalibratedCaches(const SimplexMesh<DIM>& mesh, double probeRadius, in
       {
         x[a] = points[i][static_cast<std::size_t>(a)];
       }
-      values.Add(answer.Value[i], answer.ValueVariance[i], CacheSaddle<DIM>(x));
-      const Vec<DIM> exact = CacheSaddleGradient<DIM>(x);
+      values.Add(answer.Value[i], answer.ValueVariance[i], with.U(x));
+      const Vec<DIM> exact = with.Gradient(x);
       for (int a = 0; a < DIM; ++a)
       {
         gradients.Add(answer.Gradient[i * DIM + a], answer.GradientVariance[i * DIM + a], exact[a]);
@@ -132,6 +154,52 @@ TEST(BoundaryValueCache, CalibratedInTheBall)
 TEST(BoundaryValueCache, CalibratedInTheDisc)
 {
   ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 48);
+}
+
+// Poisson: u = |x|² + 0.3 x (Δu = 2·DIM); the source's volume integral
+// joins the boundary's.
+template <int DIM>
+CacheCase<DIM> CachePoisson()
+{
+  CacheCase<DIM> with;
+  with.Kind = Equation::Poisson;
+  with.U = [](const Vec<DIM>& x) { return x.squaredNorm() + 0.3 * x[0]; };
+  with.Gradient = [](const Vec<DIM>& x) {
+    Vec<DIM> g = 2.0 * x;
+    g[0] += 0.3;
+    return g;
+  };
+  with.F = [](const Vec<DIM>&) { return 2.0 * DIM; };
+  return with;
+}
+
+// Screened Poisson, c = 4: u = e^{2x} + |x|² (Δu − 4u = 2·DIM − 4|x|²).
+template <int DIM>
+CacheCase<DIM> CacheScreened()
+{
+  CacheCase<DIM> with;
+  with.Kind = Equation::ScreenedPoisson;
+  with.Screening = 4.0;
+  with.U = [](const Vec<DIM>& x) { return std::exp(2.0 * x[0]) + x.squaredNorm(); };
+  with.Gradient = [](const Vec<DIM>& x) {
+    Vec<DIM> g = 2.0 * x;
+    g[0] += 2.0 * std::exp(2.0 * x[0]);
+    return g;
+  };
+  with.F = [](const Vec<DIM>& x) { return 2.0 * DIM - 4.0 * x.squaredNorm(); };
+  return with;
+}
+
+TEST(BoundaryValueCache, PoissonCalibrated)
+{
+  ExpectCalibratedCaches<3>(MakeIcosphere(4), 0.8, 12, CachePoisson<3>());
+  ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 24, CachePoisson<2>());
+}
+
+TEST(BoundaryValueCache, ScreenedPoissonCalibrated)
+{
+  ExpectCalibratedCaches<3>(MakeIcosphere(4), 0.8, 12, CacheScreened<3>());
+  ExpectCalibratedCaches<2>(MakeCircle(1024), 0.85, 24, CacheScreened<2>());
 }
 
 // The same bits for one thread and two; the shell and the outside are
@@ -163,9 +231,11 @@ TEST(BoundaryValueCache, ThreadsShellOutsideAndRefusals)
   EXPECT_TRUE(std::isnan(one.Value[1]));
   EXPECT_TRUE(std::isnan(one.Value[2]));
 
-  WalkSettings poisson = CacheLaplace();
-  poisson.Problem = Equation::ScreenedPoisson;
-  poisson.ScreeningCoefficient = 1.0;
-  const Problem<3> screened(boundary, poisson);
-  EXPECT_THROW(BoundaryValueCache<3>(screened, BoundaryCacheSettings()), std::invalid_argument);
+  const Field<3> zero = [](const Vec3&) { return 0.0; };
+  const auto twoValues = std::make_shared<const Boundary<3>>(
+    MakeBoundary<3>(MakeIcosphere(3), { CacheSaddle<3>, zero }));
+  WalkSettings biharmonic = CacheLaplace();
+  biharmonic.Problem = Equation::Biharmonic;
+  const Problem<3> plate(twoValues, biharmonic);
+  EXPECT_THROW(BoundaryValueCache<3>(plate, BoundaryCacheSettings()), std::invalid_argument);
 }
