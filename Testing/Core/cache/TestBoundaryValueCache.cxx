@@ -239,3 +239,45 @@ TEST(BoundaryValueCache, ThreadsShellOutsideAndRefusals)
   const Problem<3> plate(twoValues, biharmonic);
   EXPECT_THROW(BoundaryValueCache<3>(plate, BoundaryCacheSettings()), std::invalid_argument);
 }
+
+// A screened Poisson cache with a source, in 3D and 2D: the same bits for
+// one thread and two, every answer finite.
+template <int DIM>
+void ExpectThreadIndependentScreened(const SimplexMesh<DIM>& mesh)
+{
+  const CacheCase<DIM> with = CacheScreened<DIM>();
+  const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { with.U }));
+  WalkSettings walk = CacheLaplace();
+  walk.Problem = with.Kind;
+  walk.ScreeningCoefficient = with.Screening;
+  auto sources = std::make_shared<SourceSet<DIM>>();
+  const Field<DIM> f = with.F;
+  sources->MakeVolume = [f](double) { return std::make_unique<FunctionSource<DIM>>(f); };
+  const Problem<DIM> problem(boundary, walk, sources);
+  const auto points = CacheProbe<DIM>(6, 0.7);
+  CacheEvaluation one, two;
+  for (int threads : { 1, 2 })
+  {
+    BoundaryCacheSettings settings;
+    settings.CachePoints = 128;
+    settings.VolumePoints = 256;
+    settings.WalksPerCachePoint = 8;
+    settings.Threads = threads;
+    const BoundaryValueCache<DIM> cache(problem, settings);
+    cache.Evaluate(points, true, threads == 1 ? one : two);
+  }
+  ASSERT_EQ(one.Value.size(), points.size());
+  EXPECT_EQ(0, std::memcmp(one.Value.data(), two.Value.data(), one.Value.size() * sizeof(double)));
+  EXPECT_EQ(0,
+    std::memcmp(one.Gradient.data(), two.Gradient.data(), one.Gradient.size() * sizeof(double)));
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    EXPECT_TRUE(std::isfinite(one.Value[i]) && std::isfinite(one.ValueVariance[i])) << i;
+  }
+}
+
+TEST(BoundaryValueCache, SourcesAndScreeningAreThreadIndependent)
+{
+  ExpectThreadIndependentScreened<3>(MakeIcosphere(3));
+  ExpectThreadIndependentScreened<2>(MakeCircle(256));
+}
