@@ -141,6 +141,259 @@ double RadicalInverse(unsigned long long index, unsigned base)
   }
   return result;
 }
+
+// The solver's boundary: one line per segment in the plane z0, carrying ν⁴
+// as cell data (each segment's own normal, so corners are exact).
+vtkSmartPointer<vtkPolyData> EncodedBoundary(const std::vector<Segment>& segments, double z0)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  auto nu4 = gridfree::MakeArray(kPsi, 2, static_cast<vtkIdType>(segments.size()));
+  for (std::size_t k = 0; k < segments.size(); ++k)
+  {
+    const Segment& s = segments[k];
+    const vtkIdType a = points->InsertNextPoint(s.A.x(), s.A.y(), z0);
+    const vtkIdType b = points->InsertNextPoint(s.B.x(), s.B.y(), z0);
+    const vtkIdType ids[2] = { a, b };
+    lines->InsertNextCell(2, ids);
+    const gridfree::Vec2 d = s.B - s.A;
+    const std::complex<double> value = gridfree::EncodeNormalFourth(gridfree::Vec2(d.y(), -d.x()));
+    nu4->SetComponent(static_cast<vtkIdType>(k), 0, value.real());
+    nu4->SetComponent(static_cast<vtkIdType>(k), 1, value.imag());
+  }
+  auto encoded = vtkSmartPointer<vtkPolyData>::New();
+  encoded->SetPoints(points);
+  encoded->SetLines(lines);
+  encoded->GetCellData()->AddArray(nu4);
+  return encoded;
+}
+
+// The probe's output arrays: ψ, its variance and gradient as solved, and
+// the cross's four directions (0 where ψ vanishes).
+void AddCrossArrays(vtkPointData* solved, vtkDataSet* output)
+{
+  vtkDataArray* psi = solved->GetArray(kPsi);
+  for (const std::string suffix : { "", "_Variance", "_Gradient", "_Gradient_Variance" })
+  {
+    if (vtkDataArray* a = solved->GetArray((kPsi + suffix).c_str()))
+    {
+      output->GetPointData()->AddArray(a);
+    }
+  }
+  const vtkIdType n = output->GetNumberOfPoints();
+  std::array<vtkSmartPointer<vtkDoubleArray>, 4> directions;
+  for (int k = 0; k < 4; ++k)
+  {
+    directions[k] = gridfree::MakeArray("CrossDirection" + std::to_string(k + 1), 3, n);
+  }
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    std::array<gridfree::Vec2, 4> cross;
+    const bool defined = gridfree::CrossDirections(
+      std::complex<double>(psi->GetComponent(i, 0), psi->GetComponent(i, 1)), cross);
+    for (int k = 0; k < 4; ++k)
+    {
+      const double v[3] = { defined ? cross[k].x() : 0.0, defined ? cross[k].y() : 0.0, 0.0 };
+      directions[k]->SetTuple(i, v);
+    }
+  }
+  for (const auto& d : directions)
+  {
+    output->GetPointData()->AddArray(d);
+  }
+  output->GetPointData()->SetActiveVectors("CrossDirection1");
+}
+
+// How the singularities are searched (the filter's properties).
+struct SearchParameters
+{
+  bool Winding = true;
+  int GridCells = 64;
+  int Refinements = 0;
+  int Seed = 0;
+  int Seeds = 0;
+  int MaximumSteps = 0;
+  double MergeRadius = 0.0;
+  double IndexRadius = 0.0;
+};
+
+// What a search found and how it went.
+struct SearchResult
+{
+  std::vector<gridfree::Singularity> Singularities;
+  gridfree::SingularitySearchStatistics Statistics;
+  gridfree::WindingSearchStatistics Winding;
+  std::size_t Seeds = 0;
+  int GridCellsUsed = 0;
+};
+
+// The core's search: by the winding of ψ around grid cells (the grid
+// doubled, up to 8 times as fine, while the indices found fall short of the
+// boundary's `boundarySum` when `checkable`), or by descent from Halton
+// seeds inside.
+SearchResult FindCrossFieldSingularities(const gridfree::CrossFieldEvaluator& evaluate,
+  const std::vector<Segment>& segments, const double bounds[6], double diagonal,
+  const SearchParameters& with, bool checkable, int boundarySum)
+{
+  SearchResult found;
+  int gridCells = with.GridCells;
+  if (with.Winding)
+  {
+    // The grid only covers cells wholly inside: where the indices found
+    // fall short of the boundary's (singularities in narrow parts or near
+    // corners), the grid is doubled, up to 8 times as fine.
+    for (;;)
+    {
+      gridfree::WindingSearchSettings settings;
+      settings.GridCells = gridCells;
+      settings.MaxLevels = with.Refinements;
+      found.Singularities = gridfree::FindSingularitiesByWinding(
+        evaluate, [&segments](const gridfree::Vec2& p) { return Inside(segments, p); },
+        gridfree::Vec2(bounds[0], bounds[2]), gridfree::Vec2(bounds[1], bounds[3]), settings,
+        &found.Winding);
+      int sum = 0;
+      for (const gridfree::Singularity& s : found.Singularities)
+      {
+        sum += s.Index;
+      }
+      if (found.Winding.Aborted || !checkable || sum == boundarySum ||
+        gridCells >= std::min(8 * with.GridCells, 1024))
+      {
+        break;
+      }
+      gridCells = std::min(2 * gridCells, 1024);
+    }
+    found.Statistics.Aborted = found.Winding.Aborted;
+    found.GridCellsUsed = gridCells;
+    return found;
+  }
+  // Seeds: a Halton sequence over the boundary's box, inside points only.
+  std::vector<gridfree::Vec2> seeds;
+  const unsigned long long start =
+    1 + static_cast<unsigned long long>(static_cast<unsigned>(with.Seed)) * 7919ULL;
+  for (unsigned long long k = 0;
+       static_cast<int>(seeds.size()) < with.Seeds && k < 1000ULL * with.Seeds; ++k)
+  {
+    const gridfree::Vec2 p(bounds[0] + (bounds[1] - bounds[0]) * RadicalInverse(start + k, 2),
+      bounds[2] + (bounds[3] - bounds[2]) * RadicalInverse(start + k, 3));
+    if (Inside(segments, p))
+    {
+      seeds.push_back(p);
+    }
+  }
+  gridfree::SingularitySettings settings;
+  settings.MaxIterations = with.MaximumSteps;
+  settings.InitialStep = 0.01 * diagonal;
+  settings.MaxStep = 0.1 * diagonal;
+  settings.MinStep = 1e-6 * diagonal;
+  settings.MergeRadius = with.MergeRadius * diagonal;
+  settings.IndexRadius = with.IndexRadius * diagonal;
+  found.Singularities = gridfree::FindSingularities(evaluate, seeds, settings, &found.Statistics);
+  found.Seeds = seeds.size();
+  found.GridCellsUsed = gridCells;
+  return found;
+}
+
+// The singularities as vertices with their index, residual, |ψ|, seed
+// count and radius, and the search's figures as field data.
+void WriteSingularities(const SearchResult& found, bool winding, double z0, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> singularityPoints;
+  singularityPoints->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> vertices;
+  vtkNew<vtkIntArray> index, seedCount;
+  index->SetName("Index");
+  seedCount->SetName("SeedCount");
+  auto residual = gridfree::MakeArray("IndexResidual", 1, 0);
+  auto magnitude = gridfree::MakeArray("PsiMagnitude", 1, 0);
+  auto radius = gridfree::MakeArray("IndexRadius", 1, 0);
+  for (const gridfree::Singularity& s : found.Singularities)
+  {
+    const vtkIdType id = singularityPoints->InsertNextPoint(s.Position.x(), s.Position.y(), z0);
+    vertices->InsertNextCell(1, &id);
+    index->InsertNextValue(s.Index);
+    seedCount->InsertNextValue(s.SeedCount);
+    residual->InsertNextValue(s.IndexResidual);
+    magnitude->InsertNextValue(s.PsiMagnitude);
+    radius->InsertNextValue(s.Radius);
+  }
+  output->SetPoints(singularityPoints);
+  output->SetVerts(vertices);
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(index), static_cast<vtkDataArray*>(residual),
+         static_cast<vtkDataArray*>(magnitude), static_cast<vtkDataArray*>(seedCount),
+         static_cast<vtkDataArray*>(radius) })
+  {
+    output->GetPointData()->AddArray(a);
+  }
+  output->GetPointData()->SetActiveScalars("Index");
+  vtkFieldData* fd = output->GetFieldData();
+  if (winding)
+  {
+    gridfree::AddFieldValue(fd, "SearchGridCellsUsed", found.GridCellsUsed);
+    gridfree::AddFieldValue(fd, "GridCellsInside", found.Winding.GridCellsInside);
+    gridfree::AddFieldValue(fd, "UnresolvedRegions", found.Winding.UnresolvedRegions);
+  }
+  else
+  {
+    // How the seeds ended, for judging a search that found nothing.
+    const gridfree::SingularitySearchStatistics& s = found.Statistics;
+    gridfree::AddFieldValue(fd, "Seeds", static_cast<double>(found.Seeds));
+    gridfree::AddFieldValue(fd, "SeedsConverged", s.SeedsConverged);
+    gridfree::AddFieldValue(fd, "SeedsStalled", s.SeedsStalled);
+    gridfree::AddFieldValue(fd, "SeedsNotAtZero", s.SeedsNotZero);
+    gridfree::AddFieldValue(fd, "SeedsStillMoving", s.SeedsMaxIterations);
+    gridfree::AddFieldValue(fd, "ClustersOfIndexZero", s.ClustersZeroIndex);
+    gridfree::AddFieldValue(fd, "ClustersUnresolved", s.ClustersUnresolved);
+    gridfree::AddFieldValue(fd, "SearchIterations", s.Iterations);
+  }
+}
+
+// The separatrices as polylines with their end singularities, why they
+// stopped and their length; a connection traced from both ends is kept once.
+void WriteSeparatrices(
+  const std::vector<gridfree::Separatrix>& curves, double z0, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> curvePoints;
+  curvePoints->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> polylines;
+  vtkNew<vtkIntArray> source, target, reason;
+  source->SetName("SourceSingularity");
+  target->SetName("TargetSingularity");
+  reason->SetName("StopReason");
+  auto length = gridfree::MakeArray("Length", 1, 0);
+  for (const gridfree::Separatrix& c : curves)
+  {
+    bool duplicate = false;
+    if (c.Target >= 0 && c.Target < c.Source)
+    {
+      for (const gridfree::Separatrix& other : curves)
+      {
+        duplicate = duplicate || (other.Source == c.Target && other.Target == c.Source);
+      }
+    }
+    if (duplicate || c.Points.size() < 2)
+    {
+      continue;
+    }
+    polylines->InsertNextCell(static_cast<vtkIdType>(c.Points.size()));
+    for (const gridfree::Vec2& p : c.Points)
+    {
+      polylines->InsertCellPoint(curvePoints->InsertNextPoint(p.x(), p.y(), z0));
+    }
+    source->InsertNextValue(c.Source);
+    target->InsertNextValue(c.Target);
+    reason->InsertNextValue(static_cast<int>(c.Reason));
+    length->InsertNextValue(c.Length);
+  }
+  output->SetPoints(curvePoints);
+  output->SetLines(polylines);
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(source), static_cast<vtkDataArray*>(target),
+         static_cast<vtkDataArray*>(reason), static_cast<vtkDataArray*>(length) })
+  {
+    output->GetCellData()->AddArray(a);
+  }
+}
 } // namespace
 
 vtkWalkOnSpheresCrossField::vtkWalkOnSpheresCrossField()
@@ -210,28 +463,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
   }
   const double diagonal = std::hypot(bounds[1] - bounds[0], bounds[3] - bounds[2]);
 
-  // The solver's boundary: one line per segment, carrying ν⁴ as cell data
-  // (each segment's own normal, so corners are exact).
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkCellArray> lines;
-  auto nu4 = gridfree::MakeArray(kPsi, 2, static_cast<vtkIdType>(segments.size()));
-  for (std::size_t k = 0; k < segments.size(); ++k)
-  {
-    const Segment& s = segments[k];
-    const vtkIdType a = points->InsertNextPoint(s.A.x(), s.A.y(), z0);
-    const vtkIdType b = points->InsertNextPoint(s.B.x(), s.B.y(), z0);
-    const vtkIdType ids[2] = { a, b };
-    lines->InsertNextCell(2, ids);
-    const gridfree::Vec2 d = s.B - s.A;
-    const std::complex<double> value = gridfree::EncodeNormalFourth(gridfree::Vec2(d.y(), -d.x()));
-    nu4->SetComponent(static_cast<vtkIdType>(k), 0, value.real());
-    nu4->SetComponent(static_cast<vtkIdType>(k), 1, value.imag());
-  }
-  vtkNew<vtkPolyData> encoded;
-  encoded->SetPoints(points);
-  encoded->SetLines(lines);
-  encoded->GetCellData()->AddArray(nu4);
+  const vtkSmartPointer<vtkPolyData> encoded = EncodedBoundary(segments, z0);
 
   // One solve of ψ and ∇ψ at `where`, with `walks` walks per point: as the
   // probe's arrays, or as numbers for the singularity search.
@@ -267,37 +499,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
     {
       return this->CheckAbort() ? 1 : 0;
     }
-    vtkPointData* pd = solved->GetPointData();
-    vtkDataArray* psi = pd->GetArray(kPsi);
-    for (const std::string suffix : { "", "_Variance", "_Gradient", "_Gradient_Variance" })
-    {
-      if (vtkDataArray* a = pd->GetArray((kPsi + suffix).c_str()))
-      {
-        output->GetPointData()->AddArray(a);
-      }
-    }
-    const vtkIdType n = probe->GetNumberOfPoints();
-    std::array<vtkSmartPointer<vtkDoubleArray>, 4> directions;
-    for (int k = 0; k < 4; ++k)
-    {
-      directions[k] = gridfree::MakeArray("CrossDirection" + std::to_string(k + 1), 3, n);
-    }
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      std::array<gridfree::Vec2, 4> cross;
-      const bool defined = gridfree::CrossDirections(
-        std::complex<double>(psi->GetComponent(i, 0), psi->GetComponent(i, 1)), cross);
-      for (int k = 0; k < 4; ++k)
-      {
-        const double v[3] = { defined ? cross[k].x() : 0.0, defined ? cross[k].y() : 0.0, 0.0 };
-        directions[k]->SetTuple(i, v);
-      }
-    }
-    for (const auto& d : directions)
-    {
-      output->GetPointData()->AddArray(d);
-    }
-    output->GetPointData()->SetActiveVectors("CrossDirection1");
+    AddCrossArrays(solved->GetPointData(), output);
   }
 
   if (search)
@@ -358,65 +560,19 @@ int vtkWalkOnSpheresCrossField::RequestData(
     const int boundarySum = closedLoops ? gridfree::BoundaryWinding(loops, &ambiguous) : 0;
     const bool checkable = closedLoops && !ambiguous;
 
-    gridfree::SingularitySearchStatistics searchStatistics;
-    gridfree::WindingSearchStatistics windingStatistics;
-    std::vector<gridfree::Vec2> seeds;
-    std::vector<gridfree::Singularity> singularities;
-    int gridCells = this->SearchGridCells;
-    if (this->SearchMethod == WINDING)
-    {
-      // The grid only covers cells wholly inside: where the indices found
-      // fall short of the boundary's (singularities in narrow parts or near
-      // corners), the grid is doubled, up to 8 times as fine.
-      for (;;)
-      {
-        gridfree::WindingSearchSettings settings;
-        settings.GridCells = gridCells;
-        settings.MaxLevels = this->SearchRefinements;
-        singularities = gridfree::FindSingularitiesByWinding(
-          evaluate, [&segments](const gridfree::Vec2& p) { return Inside(segments, p); },
-          gridfree::Vec2(bounds[0], bounds[2]), gridfree::Vec2(bounds[1], bounds[3]), settings,
-          &windingStatistics);
-        int sum = 0;
-        for (const gridfree::Singularity& s : singularities)
-        {
-          sum += s.Index;
-        }
-        if (windingStatistics.Aborted || !checkable || sum == boundarySum ||
-          gridCells >= std::min(8 * this->SearchGridCells, 1024))
-        {
-          break;
-        }
-        gridCells = std::min(2 * gridCells, 1024);
-      }
-      searchStatistics.Aborted = windingStatistics.Aborted;
-    }
-    else
-    {
-      // Seeds: a Halton sequence over the boundary's box, inside points only.
-      const unsigned long long start =
-        1 + static_cast<unsigned long long>(static_cast<unsigned>(this->GetSeed())) * 7919ULL;
-      for (unsigned long long k = 0;
-           static_cast<int>(seeds.size()) < this->NumberOfSeeds && k < 1000ULL * this->NumberOfSeeds;
-           ++k)
-      {
-        const gridfree::Vec2 p(bounds[0] + (bounds[1] - bounds[0]) * RadicalInverse(start + k, 2),
-          bounds[2] + (bounds[3] - bounds[2]) * RadicalInverse(start + k, 3));
-        if (Inside(segments, p))
-        {
-          seeds.push_back(p);
-        }
-      }
-      gridfree::SingularitySettings settings;
-      settings.MaxIterations = this->MaximumSearchSteps;
-      settings.InitialStep = 0.01 * diagonal;
-      settings.MaxStep = 0.1 * diagonal;
-      settings.MinStep = 1e-6 * diagonal;
-      settings.MergeRadius = this->MergeRadius * diagonal;
-      settings.IndexRadius = this->IndexRadius * diagonal;
-      singularities = gridfree::FindSingularities(evaluate, seeds, settings, &searchStatistics);
-    }
-    if (searchStatistics.Aborted)
+    SearchParameters with;
+    with.Winding = this->SearchMethod == WINDING;
+    with.GridCells = this->SearchGridCells;
+    with.Refinements = this->SearchRefinements;
+    with.Seed = this->GetSeed();
+    with.Seeds = this->NumberOfSeeds;
+    with.MaximumSteps = this->MaximumSearchSteps;
+    with.MergeRadius = this->MergeRadius;
+    with.IndexRadius = this->IndexRadius;
+    const SearchResult found =
+      FindCrossFieldSingularities(evaluate, segments, bounds, diagonal, with, checkable, boundarySum);
+    const std::vector<gridfree::Singularity>& singularities = found.Singularities;
+    if (found.Statistics.Aborted)
     {
       if (!this->CheckAbort())
       {
@@ -426,53 +582,8 @@ int vtkWalkOnSpheresCrossField::RequestData(
       return 1;
     }
 
-    vtkNew<vtkPoints> singularityPoints;
-    singularityPoints->SetDataTypeToDouble();
-    vtkNew<vtkCellArray> vertices;
-    vtkNew<vtkIntArray> index, seedCount;
-    index->SetName("Index");
-    seedCount->SetName("SeedCount");
-    auto residual = gridfree::MakeArray("IndexResidual", 1, 0);
-    auto magnitude = gridfree::MakeArray("PsiMagnitude", 1, 0);
-    auto radius = gridfree::MakeArray("IndexRadius", 1, 0);
-    for (const gridfree::Singularity& s : singularities)
-    {
-      const vtkIdType id = singularityPoints->InsertNextPoint(s.Position.x(), s.Position.y(), z0);
-      vertices->InsertNextCell(1, &id);
-      index->InsertNextValue(s.Index);
-      seedCount->InsertNextValue(s.SeedCount);
-      residual->InsertNextValue(s.IndexResidual);
-      magnitude->InsertNextValue(s.PsiMagnitude);
-      radius->InsertNextValue(s.Radius);
-    }
-    singularityOutput->SetPoints(singularityPoints);
-    singularityOutput->SetVerts(vertices);
-    for (vtkDataArray* a : { static_cast<vtkDataArray*>(index), static_cast<vtkDataArray*>(residual),
-           static_cast<vtkDataArray*>(magnitude), static_cast<vtkDataArray*>(seedCount),
-           static_cast<vtkDataArray*>(radius) })
-    {
-      singularityOutput->GetPointData()->AddArray(a);
-    }
-    singularityOutput->GetPointData()->SetActiveScalars("Index");
+    WriteSingularities(found, with.Winding, z0, singularityOutput);
     vtkFieldData* fd = singularityOutput->GetFieldData();
-    if (this->SearchMethod == WINDING)
-    {
-      gridfree::AddFieldValue(fd, "SearchGridCellsUsed", gridCells);
-      gridfree::AddFieldValue(fd, "GridCellsInside", windingStatistics.GridCellsInside);
-      gridfree::AddFieldValue(fd, "UnresolvedRegions", windingStatistics.UnresolvedRegions);
-    }
-    else
-    {
-      // How the seeds ended, for judging a search that found nothing.
-      gridfree::AddFieldValue(fd, "Seeds", static_cast<double>(seeds.size()));
-      gridfree::AddFieldValue(fd, "SeedsConverged", searchStatistics.SeedsConverged);
-      gridfree::AddFieldValue(fd, "SeedsStalled", searchStatistics.SeedsStalled);
-      gridfree::AddFieldValue(fd, "SeedsNotAtZero", searchStatistics.SeedsNotZero);
-      gridfree::AddFieldValue(fd, "SeedsStillMoving", searchStatistics.SeedsMaxIterations);
-      gridfree::AddFieldValue(fd, "ClustersOfIndexZero", searchStatistics.ClustersZeroIndex);
-      gridfree::AddFieldValue(fd, "ClustersUnresolved", searchStatistics.ClustersUnresolved);
-      gridfree::AddFieldValue(fd, "SearchIterations", searchStatistics.Iterations);
-    }
 
     // Poincaré–Hopf: the indices found against the boundary's.
     int indexSum = 0;
@@ -495,7 +606,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
         vtkWarningMacro(<< "The singularities found have indices summing to " << indexSum
                         << " quarter turns, but the boundary requires " << boundarySum
                         << " (Poincare-Hopf): "
-                        << (this->SearchMethod == WINDING
+                        << (with.Winding
                                ? "some lie too close to the boundary even for a grid 8 times "
                                  "as fine, or in regions the noise leaves unresolved (see "
                                  "UnresolvedRegions): raise SearchGridCells or "
@@ -528,48 +639,7 @@ int vtkWalkOnSpheresCrossField::RequestData(
       {
         return 0;
       }
-      vtkNew<vtkPoints> curvePoints;
-      curvePoints->SetDataTypeToDouble();
-      vtkNew<vtkCellArray> polylines;
-      vtkNew<vtkIntArray> source, target, reason;
-      source->SetName("SourceSingularity");
-      target->SetName("TargetSingularity");
-      reason->SetName("StopReason");
-      auto length = gridfree::MakeArray("Length", 1, 0);
-      for (const gridfree::Separatrix& c : curves)
-      {
-        // A connection between two singularities is traced from both ends:
-        // keep one.
-        bool duplicate = false;
-        if (c.Target >= 0 && c.Target < c.Source)
-        {
-          for (const gridfree::Separatrix& other : curves)
-          {
-            duplicate = duplicate || (other.Source == c.Target && other.Target == c.Source);
-          }
-        }
-        if (duplicate || c.Points.size() < 2)
-        {
-          continue;
-        }
-        polylines->InsertNextCell(static_cast<vtkIdType>(c.Points.size()));
-        for (const gridfree::Vec2& p : c.Points)
-        {
-          polylines->InsertCellPoint(curvePoints->InsertNextPoint(p.x(), p.y(), z0));
-        }
-        source->InsertNextValue(c.Source);
-        target->InsertNextValue(c.Target);
-        reason->InsertNextValue(static_cast<int>(c.Reason));
-        length->InsertNextValue(c.Length);
-      }
-      separatrixOutput->SetPoints(curvePoints);
-      separatrixOutput->SetLines(polylines);
-      for (vtkDataArray* a : { static_cast<vtkDataArray*>(source),
-             static_cast<vtkDataArray*>(target), static_cast<vtkDataArray*>(reason),
-             static_cast<vtkDataArray*>(length) })
-      {
-        separatrixOutput->GetCellData()->AddArray(a);
-      }
+      WriteSeparatrices(curves, z0, separatrixOutput);
       if (tracingStatistics.Aborted && this->CheckAbort())
       {
         vtkWarningMacro(<< "Separatrix tracing aborted: the curves end where they were.");
