@@ -5,6 +5,7 @@
 // calibration pools several), the answer has the same bits for any thread
 // count, and points in the shell or outside are left to pointwise walks.
 #include <gridfree/cache/BoundaryValueCache.h>
+#include "BlockShapes.h"
 #include "EstimatorChecks.h"
 #include "TestMeshes.h"
 
@@ -79,6 +80,60 @@ struct CachePooled
   double MeanZ2() const { return SumZ2 / Count; }
 };
 
+// Answers at `points` from `caches` independent caches (seeds from
+// `firstSeed`), pooled against the exact u and ∇u; points in the shell are
+// skipped (none may be outside). Returns the points answered per cache.
+template <int DIM>
+std::size_t PoolCaches(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points,
+  int caches, std::uint64_t firstSeed, const Field<DIM>& u,
+  const std::function<Vec<DIM>(const Vec<DIM>&)>& gradient, CachePooled& values,
+  CachePooled& gradients)
+{
+  std::size_t answered = 0;
+  for (int k = 0; k < caches; ++k)
+  {
+    BoundaryCacheSettings settings;
+    settings.CachePoints = 2048;
+    settings.WalksPerCachePoint = 32;
+    settings.Seed = firstSeed + static_cast<std::uint64_t>(k);
+    const BoundaryValueCache<DIM> cache(problem, settings);
+    EXPECT_TRUE(cache.Complete());
+    CacheEvaluation answer;
+    cache.Evaluate(points, true, answer);
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      EXPECT_FALSE(answer.Outside[i]) << i;
+      if (answer.InShell[i] || answer.Outside[i])
+      {
+        continue;
+      }
+      answered += k == 0 ? 1 : 0;
+      Vec<DIM> x;
+      for (int a = 0; a < DIM; ++a)
+      {
+        x[a] = points[i][static_cast<std::size_t>(a)];
+      }
+      values.Add(answer.Value[i], answer.ValueVariance[i], u(x));
+      const Vec<DIM> exact = gradient(x);
+      for (int a = 0; a < DIM; ++a)
+      {
+        gradients.Add(answer.Gradient[i * DIM + a], answer.GradientVariance[i * DIM + a], exact[a]);
+      }
+    }
+  }
+  return answered;
+}
+
+void ExpectPooledCalibrated(const CachePooled& values, const CachePooled& gradients)
+{
+  EXPECT_LT(values.MaxAbsZ, 5.0);
+  EXPECT_GT(values.MeanZ2(), 0.7);
+  EXPECT_LT(values.MeanZ2(), 1.4);
+  EXPECT_LT(gradients.MaxAbsZ, 5.0);
+  EXPECT_GT(gradients.MeanZ2(), 0.7);
+  EXPECT_LT(gradients.MeanZ2(), 1.4);
+}
+
 // An equation with its exact solution u, ∇u and the source f of Δu − c·u = f.
 template <int DIM>
 struct CacheCase
@@ -108,39 +163,9 @@ void ExpectCalibratedCaches(
   const Problem<DIM> problem(boundary, walk, sources);
   const auto points = CacheProbe<DIM>(40, probeRadius);
   CachePooled values, gradients;
-  for (int k = 0; k < caches; ++k)
-  {
-    BoundaryCacheSettings settings;
-    settings.CachePoints = 2048;
-    settings.WalksPerCachePoint = 32;
-    settings.Seed = 100 + static_cast<std::uint64_t>(k);
-    const BoundaryValueCache<DIM> cache(problem, settings);
-    ASSERT_TRUE(cache.Complete());
-    CacheEvaluation answer;
-    cache.Evaluate(points, true, answer);
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      ASSERT_FALSE(answer.InShell[i]) << i;
-      ASSERT_FALSE(answer.Outside[i]) << i;
-      Vec<DIM> x;
-      for (int a = 0; a < DIM; ++a)
-      {
-        x[a] = points[i][static_cast<std::size_t>(a)];
-      }
-      values.Add(answer.Value[i], answer.ValueVariance[i], with.U(x));
-      const Vec<DIM> exact = with.Gradient(x);
-      for (int a = 0; a < DIM; ++a)
-      {
-        gradients.Add(answer.Gradient[i * DIM + a], answer.GradientVariance[i * DIM + a], exact[a]);
-      }
-    }
-  }
-  EXPECT_LT(values.MaxAbsZ, 5.0);
-  EXPECT_GT(values.MeanZ2(), 0.7);
-  EXPECT_LT(values.MeanZ2(), 1.4);
-  EXPECT_LT(gradients.MaxAbsZ, 5.0);
-  EXPECT_GT(gradients.MeanZ2(), 0.7);
-  EXPECT_LT(gradients.MeanZ2(), 1.4);
+  EXPECT_EQ(PoolCaches<DIM>(problem, points, caches, 100, with.U, with.Gradient, values, gradients),
+    points.size());
+  ExpectPooledCalibrated(values, gradients);
 }
 } // namespace
 
@@ -280,4 +305,41 @@ TEST(BoundaryValueCache, SourcesAndScreeningAreThreadIndependent)
 {
   ExpectThreadIndependentScreened<3>(MakeIcosphere(3));
   ExpectThreadIndependentScreened<2>(MakeCircle(256));
+}
+
+// A shape none of the tests above used, with a reflex edge (corner): the
+// L of three unit cells, the points of a grid inside it that are clear of
+// the shell, over independent caches.
+template <int DIM>
+void ExpectCalibratedInTheL(int caches)
+{
+  std::vector<Cell<DIM>> cells(3);
+  cells[1][0] = 1;
+  cells[2][1] = 1;
+  const auto boundary = std::make_shared<const Boundary<DIM>>(
+    MakeBoundary<DIM>(MakeBlockShape<DIM>(cells, DIM == 3 ? 12 : 64), { CacheSaddle<DIM> }));
+  const Problem<DIM> problem(boundary, CacheLaplace());
+  std::vector<std::array<double, 3>> points;
+  for (int j = 0; j < 9; ++j)
+  {
+    for (int i = 0; i < 9; ++i)
+    {
+      const double x = 0.1 + 0.225 * i, y = 0.1 + 0.225 * j;
+      if (x < 1.0 || y < 1.0)
+      {
+        points.push_back({ x, y, 0.5 });
+      }
+    }
+  }
+  CachePooled values, gradients;
+  const std::size_t answered = PoolCaches<DIM>(problem, points, caches, 300, CacheSaddle<DIM>,
+    CacheSaddleGradient<DIM>, values, gradients);
+  EXPECT_GE(answered, 20u);
+  ExpectPooledCalibrated(values, gradients);
+}
+
+TEST(BoundaryValueCache, CalibratedInTheL)
+{
+  ExpectCalibratedInTheL<3>(12);
+  ExpectCalibratedInTheL<2>(48);
 }
