@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace gridfree
 {
@@ -99,6 +100,24 @@ struct DerivativeArrays
       }
     }
     this->Status->SetValue(id, static_cast<unsigned char>(status));
+  }
+
+  // A gradient given as numbers (the boundary cache's: nc × DIM per point,
+  // with their variances), padded with zero z derivatives in 2D.
+  template <int DIM>
+  void StoreGradient(vtkIdType id, const std::vector<double>& gradient,
+    const std::vector<double>& variance, int nc)
+  {
+    for (int c = 0; c < nc && this->Gradient; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        const std::size_t at = static_cast<std::size_t>((id * nc + c) * DIM + a);
+        this->Gradient->SetValue(id * 3 * nc + 3 * c + a, a < DIM ? gradient[at] : 0.0);
+        this->GradientVariance->SetValue(id * 3 * nc + 3 * c + a, a < DIM ? variance[at] : 0.0);
+      }
+    }
+    this->Status->SetValue(id, 0); // DerivativeStatus::Interior
   }
 
   // Points without a derivative (no ball found, no walk run before an

@@ -16,12 +16,14 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <gridfree/cache/BoundaryValueCache.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/statistics/ErrorBarReliability.h>
 #include <gridfree/statistics/RunningStatistics.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -52,6 +54,8 @@ struct EstimateArrays
   // jumps, where the closest point switches between distant boundary parts.
   vtkSmartPointer<vtkDoubleArray> ClosestValue;
   DerivativeArrays Derivatives;
+  // Estimator Boundary Cache: 1 where the cache answered, 0 where walks did.
+  vtkSmartPointer<vtkUnsignedCharArray> FromCache;
   // Points whose error bar is unreliable because their screening weights
   // are uneven, and because their walks (all, or all but one) agreed.
   std::atomic<std::int64_t> UnevenWeights{ 0 }, OneWalkSpread{ 0 };
@@ -128,6 +132,43 @@ struct EstimateArrays
     }
   }
 
+  // The boundary cache's answers (GridFreeBoundaryCacheAnswers.h) at the
+  // points it answered: no walks, an error bar from the cache's `strata`
+  // pairs of independent draws (its relative error about √(2/strata)).
+  template <int DIM>
+  void StoreCached(const CacheEvaluation& e, std::size_t strata)
+  {
+    const int nc = this->Components;
+    this->FromCache = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    this->FromCache->SetName("FromBoundaryCache");
+    this->FromCache->SetNumberOfTuples(this->Mean->GetNumberOfTuples());
+    this->FromCache->Fill(0);
+    const double varianceError = std::sqrt(2.0 / static_cast<double>(std::max<std::size_t>(strata, 1)));
+    for (vtkIdType i = 0; i < this->Mean->GetNumberOfTuples(); ++i)
+    {
+      if (!std::isfinite(e.Value[static_cast<std::size_t>(i * nc)]))
+      {
+        continue;
+      }
+      this->FromCache->SetValue(i, 1);
+      for (int c = 0; c < nc; ++c)
+      {
+        this->Mean->SetValue(i * nc + c, e.Value[static_cast<std::size_t>(i * nc + c)]);
+        this->Variance->SetValue(i * nc + c, e.ValueVariance[static_cast<std::size_t>(i * nc + c)]);
+      }
+      this->Reliable->SetValue(i, 1);
+      this->VarianceError->SetValue(i, varianceError);
+      this->Steps->SetValue(i, 0.0);
+      this->WalkCount->SetValue(i, 0);
+      this->Escaped->SetValue(i, 0.0);
+      this->Truncated->SetValue(i, 0.0);
+      if (this->AnyDerivative)
+      {
+        this->Derivatives.StoreGradient<DIM>(i, e.Gradient, e.GradientVariance, nc);
+      }
+    }
+  }
+
   // Derivatives a point lacks become 0 (their DerivativeStatus says so).
   void Finish()
   {
@@ -159,6 +200,10 @@ struct EstimateArrays
     pd->AddArray(this->Truncated);
     pd->AddArray(this->Distance);
     pd->AddArray(this->ClosestValue);
+    if (this->FromCache)
+    {
+      pd->AddArray(this->FromCache);
+    }
     pd->SetActiveScalars(this->Mean->GetName());
     this->Finish();
     if (this->AnyDerivative)

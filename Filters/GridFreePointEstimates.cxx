@@ -1,6 +1,7 @@
 #include "GridFreePointEstimates.h"
 
 #include "GridFreeArrays.h"
+#include "GridFreeBoundaryCacheAnswers.h"
 #include "GridFreeEstimateArrays.h"
 #include "GridFreeEstimateWarnings.h"
 #include "GridFreePointNumbers.h"
@@ -236,7 +237,7 @@ void FillBoundaryArrays(
 // The derivatives asked for: the derivative estimator runs whenever a
 // derivative or a control variate is asked for (the value's control needs
 // the gradient, which walk on stars does not estimate yet).
-DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool mixed)
+DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool mixed, bool cache)
 {
   DerivativeRequest request;
   request.Gradient = s.ComputeGradient;
@@ -246,8 +247,40 @@ DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool mixed)
   request.Directional = s.ComputeDirectionalDerivative;
   request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
     s.DerivativeDirection[2] };
-  request.DivergenceCurl = s.ComputeGradient && nc == 3;
+  // (The boundary cache gives no divergence or curl, whose variances need
+  // the gradient's covariances.)
+  request.DivergenceCurl = s.ComputeGradient && nc == 3 && !cache;
   return request;
+}
+
+// Points outside the closed boundary, which the boundary cache does not
+// answer.
+void WarnOfPointsOutside(std::int64_t outside, std::int64_t points, const Warn& warn)
+{
+  if (outside > 0)
+  {
+    std::ostringstream text;
+    text << outside << " of " << points
+         << " probe points lie outside the closed boundary: the boundary cache solves the "
+            "interior problem only, so their results are NaN (field data OutsidePoints). "
+            "Choose the Pointwise Walks estimator for the exterior.";
+    warn(text.str());
+  }
+}
+
+// The boundary cache's part of a batch, in field data: how many points it
+// answered, its size, and what this batch spent on it (CacheWalksRun 0:
+// the cache was reused as it was).
+template <int DIM>
+void AddCacheFields(vtkFieldData* fd, const BoundaryCacheAnswers<DIM>& cached)
+{
+  AddFieldValue(fd, "PointsFromCache", static_cast<double>(cached.Answered));
+  AddFieldValue(fd, "PointsWalkedInShell", static_cast<double>(cached.Walked.size()));
+  AddFieldValue(fd, "OutsidePoints", static_cast<double>(cached.Outside));
+  AddFieldValue(fd, "CachePoints", static_cast<double>(cached.Cache->Size()));
+  AddFieldValue(fd, "WalksPerCachePoint", static_cast<double>(cached.Cache->WalksPerCachePoint()));
+  AddFieldValue(fd, "CacheWalksRun", static_cast<double>(cached.WalksRun));
+  AddFieldValue(fd, "CacheSeconds", cached.Seconds);
 }
 
 // The batch the settings ask for: walks, seed, threads, derivatives and, in
@@ -409,18 +442,25 @@ struct ArrayStorage
   {
     this->Arrays.ClosestValue->SetTypedComponent(i, c, g);
   }
+  // The walks at `points`, the probe's points `indices` (null: all of them).
   template <int DIM>
   BatchSummary Run(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points,
-    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept)
+    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept,
+    const std::vector<std::size_t>* indices)
   {
     const SampleLayout layout = problem.Layout(batch);
     auto storePoint = [&](std::size_t at, const RunningStatistics& stats,
                         const WalkCounters& counters, DerivativeStatus status)
     {
-      this->Arrays.Store<DIM>(
-        at, stats, counters, layout, problem.ErrorBar(stats, counters, layout), status);
+      this->Arrays.Store<DIM>(indices ? (*indices)[at] : at, stats, counters, layout,
+        problem.ErrorBar(stats, counters, layout), status);
     };
     return problem.Estimate(points, batch, storePoint, std::ref(progress), kept);
+  }
+  template <int DIM>
+  void StoreCached(const BoundaryCacheAnswers<DIM>& cached)
+  {
+    this->Arrays.StoreCached<DIM>(cached.Answers, cached.Cache->Size() / 2);
   }
   void Finish(bool withWalkCount)
   {
@@ -444,6 +484,37 @@ struct ArrayStorage
     return this->Arrays.Mean->GetValue(i * this->Arrays.Components);
   }
 };
+
+// A batch run at some of the probe's points (`indices`), laid out over all
+// `points` of the probe: the others NaN and not finished.
+BatchEstimates ScatterBatch(const BatchEstimates& part, const std::vector<std::size_t>& indices,
+  std::size_t points)
+{
+  BatchEstimates all;
+  all.Summary = part.Summary;
+  all.Points = points;
+  const std::size_t size = static_cast<std::size_t>(part.Summary.Layout.Size);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  all.Means.assign(points * size, nan);
+  all.Variances.assign(points * size, nan);
+  all.Counters.assign(points, WalkCounters());
+  all.Status.assign(points, DerivativeStatus::Unavailable);
+  all.Finished.assign(points, 0);
+  all.ErrorBars.assign(points, ErrorBarCheck());
+  for (std::size_t k = 0; k < indices.size(); ++k)
+  {
+    const std::size_t i = indices[k];
+    std::copy_n(part.Means.begin() + static_cast<std::ptrdiff_t>(k * size), size,
+      all.Means.begin() + static_cast<std::ptrdiff_t>(i * size));
+    std::copy_n(part.Variances.begin() + static_cast<std::ptrdiff_t>(k * size), size,
+      all.Variances.begin() + static_cast<std::ptrdiff_t>(i * size));
+    all.Counters[i] = part.Counters[k];
+    all.Status[i] = part.Status[k];
+    all.Finished[i] = part.Finished[k];
+    all.ErrorBars[i] = part.ErrorBars[k];
+  }
+  return all;
+}
 
 // ... or the core's numbers (Problem::EstimateAll), for a filter that uses
 // them itself.
@@ -469,11 +540,49 @@ struct NumberStorage
   void SetClosestValue(vtkIdType, int, double) {}
   template <int DIM>
   BatchSummary Run(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& points,
-    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept)
+    const BatchRequest& batch, ProgressReporter& progress, RunningSumsCache* kept,
+    const std::vector<std::size_t>* indices)
   {
     this->Numbers.Dimension = DIM;
     this->Numbers.Batch = problem.EstimateAll(points, batch, std::ref(progress), kept);
+    if (indices)
+    {
+      this->Numbers.Batch = ScatterBatch(this->Numbers.Batch, *indices, this->Numbers.Distance.size());
+    }
     return this->Numbers.Batch.Summary;
+  }
+  // The cache's answers in the slots of the value and the gradient, as
+  // finished points with no walks.
+  template <int DIM>
+  void StoreCached(const BoundaryCacheAnswers<DIM>& cached)
+  {
+    BatchEstimates& b = this->Numbers.Batch;
+    const SampleLayout& layout = b.Summary.Layout;
+    const std::size_t size = static_cast<std::size_t>(layout.Size);
+    const int nc = this->Numbers.Components;
+    const CacheEvaluation& e = cached.Answers;
+    for (std::size_t i = 0; i < b.Points; ++i)
+    {
+      if (!std::isfinite(e.Value[i * nc]))
+      {
+        continue;
+      }
+      b.Finished[i] = 1;
+      b.Status[i] = DerivativeStatus::Interior;
+      b.Counters[i] = WalkCounters();
+      b.ErrorBars[i] = ErrorBarCheck();
+      for (int c = 0; c < nc; ++c)
+      {
+        b.Means[i * size + layout.Value + c] = e.Value[i * nc + c];
+        b.Variances[i * size + layout.Value + c] = e.ValueVariance[i * nc + c];
+        for (int a = 0; a < DIM && layout.Gradient >= 0 && !e.Gradient.empty(); ++a)
+        {
+          const std::size_t slot = static_cast<std::size_t>(layout.Gradient + c * DIM + a);
+          b.Means[i * size + slot] = e.Gradient[(i * nc + c) * DIM + a];
+          b.Variances[i * size + slot] = e.GradientVariance[(i * nc + c) * DIM + a];
+        }
+      }
+    }
   }
   void Finish(bool) {}
   // As EstimateArrays::Store counts them, over the points that reached it.
@@ -542,7 +651,16 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   const std::vector<std::array<double, 3>>& points = start.Of(probePoints, mixed);
   const auto numPoints = static_cast<vtkIdType>(probePoints.size());
 
-  const DerivativeRequest derivatives = DerivativesOf(s, nc, mixed);
+  const bool cacheChosen = s.Estimator == Estimator::BoundaryCache && built.CacheSlot;
+  const DerivativeRequest derivatives = DerivativesOf(s, nc, mixed, cacheChosen);
+  if (cacheChosen && (derivatives.Hessian || derivatives.Directional))
+  {
+    vtkErrorWithObjectMacro(self, << "Estimator Boundary Cache gives the value and the gradient: "
+                                     "turn ComputeHessian and ComputeDirectionalDerivative off, "
+                                     "or choose the Pointwise Walks estimator.");
+    result.Completed = false;
+    return false;
+  }
   arrays.Allocate(name, nc, numPoints, built.Biharmonic, derivatives);
   FillBoundaryArrays<DIM>(problem, points, arrays);
 
@@ -554,21 +672,49 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   }
   const double target = batch.TargetStandardError;
 
+  // Estimator Boundary Cache: the cache answers the points clear of the
+  // boundary's shell (building or growing it takes the first part of the
+  // progress), walks answer the others.
+  BoundaryCacheAnswers<DIM> cached;
+  PointEstimateRun walkRun = run;
+  if (cacheChosen)
+  {
+    PointEstimateRun cacheRun = run;
+    cacheRun.ProgressEnd = walkRun.ProgressBegin =
+      run.ProgressBegin + 0.8 * (run.ProgressEnd - run.ProgressBegin);
+    ProgressReporter cacheProgress(self, cacheRun, warn, numPoints, s.WalksPerCachePoint, 0.0);
+    if (!AnswerFromBoundaryCache<DIM>(self, built, s, points, derivatives.Gradient, target,
+          std::ref(cacheProgress), cached))
+    {
+      result.Completed = false;
+      return false;
+    }
+    WarnOfPointsOutside(cached.Outside, numPoints, warn);
+  }
+  const std::vector<std::array<double, 3>>& walked = cached.Active() ? cached.WalkedPoints : points;
+
   // Progressive refinement: the batch continues from the running sums the
   // caller kept (it forgot them if anything but WalksPerPoint changed) and
   // keeps its own.
-  ProgressReporter progress(self, run, warn, numPoints, batch.WalksPerPoint, target);
-  const BatchSummary summary = arrays.template Run<DIM>(problem, points, batch, progress, run.Kept);
+  ProgressReporter progress(self, walkRun, warn, numPoints, batch.WalksPerPoint, target);
+  const BatchSummary summary = arrays.template Run<DIM>(
+    problem, walked, batch, progress, run.Kept, cached.Active() ? &cached.Walked : nullptr);
+  if (cached.Active())
+  {
+    arrays.template StoreCached<DIM>(cached);
+  }
 
   // Walks run now; the output stands for the totals (kept walks included).
   result.ResumedWalksPerPoint = summary.ResumedWalksPerPoint;
-  result.WalksRun = summary.WalksRun;
-  result.Seconds = summary.Seconds;
+  // (The boundary cache's walks and seconds count too: its field data
+  // tell them apart.)
+  result.WalksRun = summary.WalksRun + cached.WalksRun;
+  result.Seconds = summary.Seconds + cached.Seconds;
   result.Completed = summary.Completed;
   result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
   result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
-  arrays.Finish(target > 0.0 || !summary.Completed);
+  arrays.Finish(target > 0.0 || !summary.Completed || cached.Active());
 
   BatchFindings found;
   found.Name = name;
@@ -598,13 +744,18 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   if (fd)
   {
     AddSummaryFields(fd, found, mixed, start.Outside);
+    if (cached.Active())
+    {
+      AddCacheFields(fd, cached);
+    }
   }
   DebugSummary(self, found);
   if (summary.Completed)
   {
     if (target > 0.0)
     {
-      found.PointsShortOfTarget = arrays.ShortOfTarget(target, batch.WalksPerPoint);
+      found.PointsShortOfTarget =
+        arrays.ShortOfTarget(target, batch.WalksPerPoint) + cached.ShortOfTarget;
       result.PointsShortOfTarget = found.PointsShortOfTarget;
       if (fd)
       {
@@ -614,7 +765,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     // NaN results of finite probe points: walks whose coordinates
     // overflowed (points far beyond the boundary's scale) end with no
     // boundary value.
-    found.NanResults = -start.NonFinite - start.Outside;
+    found.NanResults = -start.NonFinite - start.Outside - cached.Outside;
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
       found.NanResults += std::isnan(arrays.FirstValue(i)) ? 1 : 0;

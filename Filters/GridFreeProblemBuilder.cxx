@@ -1,6 +1,7 @@
 #include "GridFreeProblemBuilder.h"
 
 #include "GridFreeBoundaryAssembly.h"
+#include "GridFreeBoundaryCacheSlot.h"
 #include "GridFreeBoundaryValueArrays.h"
 #include "GridFreeInputFingerprint.h"
 #include "GridFreeProblemInputs.h"
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gridfree
@@ -140,6 +142,9 @@ struct ProblemBuilder::Internals
   // The same for mixed boundary conditions.
   std::shared_ptr<const MixedBoundary<2>> Mixed2;
   std::shared_ptr<const MixedBoundary<3>> Mixed3;
+  // The boundary value cache's slot and what its cache is built from.
+  std::vector<std::uint64_t> CacheKey;
+  std::shared_ptr<BoundaryCacheSlot> CacheSlot;
 
   template <int DIM>
   std::shared_ptr<const Boundary<DIM>>& CachedBoundary()
@@ -219,6 +224,35 @@ struct ProblemBuilder::Internals
     return key;
   }
 
+  // What a boundary value cache is built from: the boundary's key, the
+  // source and its array or expression, the equation, the walks' settings
+  // and seed, and the cache's own settings but its walks per point (a
+  // cache grows to more walks, BoundaryValueCache::Refine).
+  std::vector<std::uint64_t> MakeCacheKey(const WalkSettings& walk) const
+  {
+    const ProblemInputs& in = this->Inputs;
+    const SolveSettings& s = this->Settings;
+    std::vector<std::uint64_t> key = in.BoundaryKey;
+    for (vtkObject* object :
+      { static_cast<vtkObject*>(in.Source), static_cast<vtkObject*>(in.SourceArray) })
+    {
+      AppendFingerprint(object, key);
+      key.push_back(~std::uint64_t(0));
+    }
+    AppendString(in.Expression, key);
+    for (double v : { walk.Epsilon, walk.ScreeningCoefficient, s.CacheOffset,
+           s.CacheShellDistance })
+    {
+      AppendDouble(v, key);
+    }
+    for (int v : { walk.MaxSteps, static_cast<int>(walk.Problem), static_cast<int>(walk.Sampling),
+           static_cast<int>(s.SourceOperator), s.Seed, s.CachePoints, s.CacheVolumePoints })
+    {
+      key.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
+    }
+    return key;
+  }
+
   template <int DIM>
   bool Make(vtkObject* self, ProblemBuilder& builder, BuiltProblem& out);
 };
@@ -237,6 +271,8 @@ void ProblemBuilder::Forget()
   this->Internal->Boundary3.reset();
   this->Internal->Mixed2.reset();
   this->Internal->Mixed3.reset();
+  this->Internal->CacheKey.clear();
+  this->Internal->CacheSlot.reset();
 }
 
 bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
@@ -625,6 +661,19 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   else
   {
     out.Problem3 = problem;
+  }
+  // The boundary cache lives with the problem: the same slot while the
+  // problem is built from the same data and settings. (Kept while another
+  // estimator is chosen, so that choosing the cache again reuses it.)
+  if (s.Estimator == Estimator::BoundaryCache)
+  {
+    std::vector<std::uint64_t> cacheKey = this->MakeCacheKey(settings);
+    if (!this->CacheSlot || cacheKey != this->CacheKey)
+    {
+      this->CacheSlot = std::make_shared<BoundaryCacheSlot>();
+      this->CacheKey = std::move(cacheKey);
+    }
+    out.CacheSlot = this->CacheSlot;
   }
   return true;
 }

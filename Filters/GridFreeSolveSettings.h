@@ -23,6 +23,15 @@ class vtkImplicitFunction;
 
 namespace gridfree
 {
+// How probe points are answered: each by its own walks, or by the boundary
+// value cache (gridfree/cache/BoundaryValueCache.h) that every probe shares,
+// with walks only in the shell near the boundary.
+enum class Estimator
+{
+  PointwiseWalks = 0,
+  BoundaryCache = 1
+};
+
 struct SolveSettings
 {
   // The boundary.
@@ -61,6 +70,15 @@ struct SolveSettings
   int MaxSteps = 10000;
   int Seed = 0;
   int NumberOfThreads = 0;
+
+  // The estimator, and the boundary cache's settings (BoundaryCacheSettings:
+  // offset and shell distance relative to the boundary's diagonal).
+  gridfree::Estimator Estimator = gridfree::Estimator::PointwiseWalks;
+  int CachePoints = 4096;
+  int WalksPerCachePoint = 64;
+  int CacheVolumePoints = 8192;
+  double CacheOffset = 0.01;
+  double CacheShellDistance = 0.05;
 
   // The derivatives.
   bool ComputeGradient = false;

@@ -87,6 +87,64 @@ public:
   int GetNumberOfThreads();
   ///@}
 
+  ///@{
+  /**
+   * How probe points are answered (default POINTWISE_WALKS):
+   * - POINTWISE_WALKS: each point by its own walks;
+   * - BOUNDARY_CACHE: by a boundary value cache that every probe shares
+   *   (Miller et al. 2023): walks estimate the normal derivative once, at
+   *   CachePoints points on the boundary, and each probe point is answered
+   *   by Green's representation formula with no walks of its own. Points
+   *   closer to the boundary than CacheShellDistance take their own walks;
+   *   points outside the closed boundary get NaN (interior problems only).
+   *   The cache is kept with the problem: a moved probe (slice, seeds)
+   *   reuses it with no new walks; a change of the boundary, its values,
+   *   the source, the equation, Epsilon, MaxSteps, the seed or the cache's
+   *   settings builds a new one. More WalksPerCachePoint grows it. A
+   *   TargetStandardError doubles its walks until every point it answers
+   *   meets the target (up to WalksPerPoint walks per cache point).
+   *   Laplace, Poisson (volume sources) and screened Poisson equations
+   *   with Dirichlet conditions on a closed mesh; value and gradient only.
+   *   Nearby points share the cache's walks, so their errors are
+   *   correlated: a smooth picture whose error does not average out.
+   */
+  enum EstimatorType
+  {
+    POINTWISE_WALKS = 0,
+    BOUNDARY_CACHE = 1
+  };
+  void SetEstimator(int estimator);
+  int GetEstimator();
+  ///@}
+
+  ///@{
+  /**
+   * The boundary cache's size (BOUNDARY_CACHE): points on the boundary
+   * (default 4096; two per stratum of equal area), walks per cache point
+   * (default 64), and points of a source's volume integral (default 8192).
+   */
+  void SetCachePoints(int points);
+  int GetCachePoints();
+  void SetWalksPerCachePoint(int walks);
+  int GetWalksPerCachePoint();
+  void SetCacheVolumePoints(int points);
+  int GetCacheVolumePoints();
+  ///@}
+
+  ///@{
+  /**
+   * The boundary cache's depth and shell (BOUNDARY_CACHE), relative to the
+   * boundary's bounding-box diagonal: the normal derivative is estimated
+   * CacheOffset inside the boundary (default 0.01; smaller is less biased
+   * and noisier), and points closer than CacheShellDistance (default 0.05)
+   * take their own walks.
+   */
+  void SetCacheOffset(double offset);
+  double GetCacheOffset();
+  void SetCacheShellDistance(double distance);
+  double GetCacheShellDistance();
+  ///@}
+
   /**
    * Whether the last execution built a boundary (its hierarchy and values)
    * for any of its solves; false when every solve reused the boundary kept

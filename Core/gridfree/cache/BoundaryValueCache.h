@@ -46,6 +46,7 @@
 #include <gridfree/math/BesselFunctions.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sampling/Random.h>
+#include <gridfree/statistics/RunningSumsCache.h>
 
 #include <algorithm>
 #include <array>
@@ -76,8 +77,9 @@ struct BoundaryCacheSettings
 };
 
 // One answer of the cache per probe point: u (and ∇u when asked) with the
-// variances of their means; NaN, with InShell 1, for points closer to the
-// boundary than the shell distance, and with Outside 1 for points outside.
+// variances of their means; NaN, with Outside 1, for points outside, and
+// with InShell 1 for points inside closer to the boundary than the shell
+// distance.
 struct CacheEvaluation
 {
   std::vector<double> Value, ValueVariance;       // points × components
@@ -181,44 +183,31 @@ public:
       this->DrawVolumePoints(*sources->MakeVolume(boundary.Diagonal()));
     }
 
-    // ∇u just inside each cache point, by the problem's gradient walks.
-    std::vector<std::array<double, 3>> inside(this->Points.size(), { 0.0, 0.0, 0.0 });
-    const double delta = settings.Offset * boundary.Diagonal();
-    for (std::size_t j = 0; j < this->Points.size(); ++j)
+    this->RunWalks(problem, settings.WalksPerCachePoint, progress);
+  }
+
+  // Continues every cache point's normal-derivative walks up to
+  // `walksPerCachePoint` (kept running sums: the cache then has the bits of
+  // one built with that many walks). `problem` must be the one the cache
+  // was built from (the same boundary, equation and sources). Fewer walks
+  // than it holds change nothing; false when aborted (the cache then
+  // answers nothing until a complete Refine).
+  bool Refine(const Problem<DIM>& problem, int walksPerCachePoint,
+    const BatchProgressCallback& progress = BatchProgressCallback())
+  {
+    if (walksPerCachePoint > this->WalksPerPoint || !this->CompleteBuild)
     {
-      const Vec<DIM> y = this->Points[j] - delta * this->Normals[j];
-      for (int k = 0; k < DIM; ++k)
-      {
-        inside[j][static_cast<std::size_t>(k)] = y[k];
-      }
+      this->RunWalks(problem, std::max(walksPerCachePoint, this->WalksPerPoint), progress);
     }
-    BatchRequest request;
-    request.WalksPerPoint = settings.WalksPerCachePoint;
-    request.Seed = settings.Seed;
-    request.Threads = settings.Threads;
-    request.Derivatives.Gradient = true;
-    const BatchEstimates walked = problem.EstimateAll(inside, request, progress);
-    this->CompleteBuild = walked.Summary.Completed;
-    this->WalksRun = walked.Summary.WalksRun;
-    const int gradient = walked.Summary.Layout.Gradient;
-    this->NormalDerivatives.assign(this->Points.size() * this->Components, 0.0);
-    for (std::size_t j = 0; j < this->Points.size(); ++j)
-    {
-      for (int c = 0; c < this->Components; ++c)
-      {
-        double q = 0.0;
-        for (int a = 0; a < DIM; ++a)
-        {
-          q += walked.Mean(j, gradient + c * DIM + a) * this->Normals[j][a];
-        }
-        this->NormalDerivatives[j * this->Components + c] = q;
-      }
-    }
+    return this->CompleteBuild;
   }
 
   bool Complete() const { return this->CompleteBuild; }
   std::size_t Size() const { return this->Points.size(); }
+  // Walks run by the last build or Refine (walks continued from kept sums
+  // excluded), and the walks each cache point holds.
   std::uint64_t Walks() const { return this->WalksRun; }
+  int WalksPerCachePoint() const { return this->WalksPerPoint; }
   int SolutionComponents() const { return this->Components; }
   double ShellDistance() const { return this->Settings.ShellDistance * this->Shape->Diagonal(); }
 
@@ -280,14 +269,14 @@ public:
             continue;
           }
           const ClosestPointResult<DIM> hit = this->Shape->ClosestPoint(x);
-          if (hit.distance < shell)
-          {
-            out.InShell[i] = 1;
-            continue;
-          }
           if (this->Shape->Side(x, hit) * this->Orientation > 0)
           {
             out.Outside[i] = 1;
+            continue;
+          }
+          if (hit.distance < shell)
+          {
+            out.InShell[i] = 1;
             continue;
           }
           this->EvaluatePoint(x, gradient, i, out);
@@ -297,6 +286,46 @@ public:
   }
 
 private:
+  // ∇u just inside each cache point, y = z − δn, by the problem's gradient
+  // walks (one batch for all of them, continued from the kept sums), and
+  // the normal derivatives q = ∇u(y)·n from their means.
+  void RunWalks(const Problem<DIM>& problem, int walks, const BatchProgressCallback& progress)
+  {
+    std::vector<std::array<double, 3>> inside(this->Points.size(), { 0.0, 0.0, 0.0 });
+    const double delta = this->Settings.Offset * this->Shape->Diagonal();
+    for (std::size_t j = 0; j < this->Points.size(); ++j)
+    {
+      const Vec<DIM> y = this->Points[j] - delta * this->Normals[j];
+      for (int k = 0; k < DIM; ++k)
+      {
+        inside[j][static_cast<std::size_t>(k)] = y[k];
+      }
+    }
+    BatchRequest request;
+    request.WalksPerPoint = walks;
+    request.Seed = this->Settings.Seed;
+    request.Threads = this->Settings.Threads;
+    request.Derivatives.Gradient = true;
+    const BatchEstimates walked = problem.EstimateAll(inside, request, progress, &this->Kept);
+    this->CompleteBuild = walked.Summary.Completed;
+    this->WalksRun = walked.Summary.WalksRun;
+    this->WalksPerPoint = this->CompleteBuild ? walks : 0;
+    const int gradient = walked.Summary.Layout.Gradient;
+    this->NormalDerivatives.assign(this->Points.size() * this->Components, 0.0);
+    for (std::size_t j = 0; j < this->Points.size(); ++j)
+    {
+      for (int c = 0; c < this->Components; ++c)
+      {
+        double q = 0.0;
+        for (int a = 0; a < DIM; ++a)
+        {
+          q += walked.Mean(j, gradient + c * DIM + a) * this->Normals[j][a];
+        }
+        this->NormalDerivatives[j * this->Components + c] = q;
+      }
+    }
+  }
+
   // Triangle (segment) areas and their running sums in Morton order, for
   // drawing points by strata; the orientation that makes the primitives'
   // normals point outward.
@@ -590,6 +619,8 @@ private:
   std::vector<double> Values, NormalDerivatives;
   bool CompleteBuild = false;
   std::uint64_t WalksRun = 0;
+  int WalksPerPoint = 0;
+  RunningSumsCache Kept; // the walks' sums, for Refine
 };
 } // namespace gridfree
 

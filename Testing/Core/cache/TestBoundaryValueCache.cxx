@@ -235,7 +235,7 @@ TEST(BoundaryValueCache, ThreadsShellOutsideAndRefusals)
     std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(3), { CacheSaddle<3> }));
   const Problem<3> problem(boundary, CacheLaplace());
   const std::vector<std::array<double, 3>> points = { { 0.1, 0.2, 0.3 }, { 0.0, 0.0, 0.97 },
-    { 2.0, 0.0, 0.0 }, { 0.5, -0.2, 0.1 } };
+    { 2.0, 0.0, 0.0 }, { 0.5, -0.2, 0.1 }, { 0.0, 0.0, 1.02 } };
   CacheEvaluation one, two;
   for (int threads : { 1, 2 })
   {
@@ -250,8 +250,10 @@ TEST(BoundaryValueCache, ThreadsShellOutsideAndRefusals)
   EXPECT_EQ(0, std::memcmp(one.Value.data(), two.Value.data(), one.Value.size() * sizeof(double)));
   EXPECT_EQ(0,
     std::memcmp(one.Gradient.data(), two.Gradient.data(), one.Gradient.size() * sizeof(double)));
-  EXPECT_EQ(one.InShell, (std::vector<unsigned char>{ 0, 1, 0, 0 }));
-  EXPECT_EQ(one.Outside, (std::vector<unsigned char>{ 0, 0, 1, 0 }));
+  // (Outside comes first: a point outside within the shell's distance is
+  // outside.)
+  EXPECT_EQ(one.InShell, (std::vector<unsigned char>{ 0, 1, 0, 0, 0 }));
+  EXPECT_EQ(one.Outside, (std::vector<unsigned char>{ 0, 0, 1, 0, 1 }));
   EXPECT_TRUE(std::isfinite(one.Value[0]));
   EXPECT_TRUE(std::isnan(one.Value[1]));
   EXPECT_TRUE(std::isnan(one.Value[2]));
@@ -301,8 +303,38 @@ void ExpectThreadIndependentScreened(const SimplexMesh<DIM>& mesh)
   }
 }
 
+// Refine continues the kept walks: a cache of 4 walks per point refined to
+// 8 has the bits of one built with 8, and answers the same.
+template <int DIM>
+void ExpectRefineContinues(const SimplexMesh<DIM>& mesh)
+{
+  const CacheCase<DIM> with = CacheScreened<DIM>();
+  const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { with.U }));
+  WalkSettings walk = CacheLaplace();
+  walk.Problem = with.Kind;
+  walk.ScreeningCoefficient = with.Screening;
+  const Problem<DIM> problem(boundary, walk);
+  BoundaryCacheSettings settings;
+  settings.CachePoints = 64;
+  settings.WalksPerCachePoint = 8;
+  const BoundaryValueCache<DIM> whole(problem, settings);
+  settings.WalksPerCachePoint = 4;
+  BoundaryValueCache<DIM> grown(problem, settings);
+  EXPECT_EQ(grown.WalksPerCachePoint(), 4);
+  EXPECT_TRUE(grown.Refine(problem, 8));
+  EXPECT_EQ(grown.WalksPerCachePoint(), 8);
+  EXPECT_EQ(grown.Walks(), 64u * 4u); // only the missing walks ran
+  EXPECT_EQ(0, std::memcmp(whole.CacheNormalDerivatives().data(),
+                 grown.CacheNormalDerivatives().data(),
+                 whole.CacheNormalDerivatives().size() * sizeof(double)));
+  EXPECT_TRUE(grown.Refine(problem, 6)); // fewer: nothing runs, nothing changes
+  EXPECT_EQ(grown.WalksPerCachePoint(), 8);
+}
+
 TEST(BoundaryValueCache, SourcesAndScreeningAreThreadIndependent)
 {
+  ExpectRefineContinues<3>(MakeIcosphere(2));
+  ExpectRefineContinues<2>(MakeCircle(128));
   ExpectThreadIndependentScreened<3>(MakeIcosphere(3));
   ExpectThreadIndependentScreened<2>(MakeCircle(256));
 }

@@ -1,0 +1,205 @@
+"""The Boundary Cache estimator in the filters: the cache answers the points
+clear of the boundary's shell (FromBoundaryCache 1, no walks of their own),
+walks answer the shell, and the answers agree with the exact solution
+within their error bars. The cache lives with the problem: a moved probe
+reuses it with no new walks (field data CacheWalksRun 0) and gets the
+numbers a fresh solver gives there; more walks per cache point run only
+the missing ones; a new seed or new boundary values build a new cache. A
+target standard error grows the cache's walks. What the cache cannot
+answer is refused in words."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
+from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
+
+from gridfree_testing import (  # noqa: E402
+    MessageCatcher, point_cloud, sphere_boundary)
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+CACHE = gridfree.vtkWalkOnSpheresAlgorithm.BOUNDARY_CACHE
+
+
+def harmonic(x, y, z):
+    return x * x - y * y + 0.3 * z
+
+
+def harmonic_gradient(x, y, z):
+    return (2.0 * x, -2.0 * y, 0.3)
+
+
+def plane(z, resolution=8):
+    source = vtkPlaneSource()
+    source.SetOrigin(-0.8, -0.8, z)
+    source.SetPoint1(0.8, -0.8, z)
+    source.SetPoint2(-0.8, 0.8, z)
+    source.SetResolution(resolution, resolution)
+    return source
+
+
+def move(source, z):
+    source.SetOrigin(-0.8, -0.8, z)
+    source.SetPoint1(0.8, -0.8, z)
+    source.SetPoint2(-0.8, 0.8, z)
+
+
+def cache_solver(boundary, probe, **settings):
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeConnection(probe.GetOutputPort())
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetEstimator(CACHE)
+    solver.SetCachePoints(1024)
+    solver.SetWalksPerCachePoint(32)
+    solver.SetWalksPerPoint(64)
+    solver.SetComputeGradient(True)
+    for name, value in settings.items():
+        getattr(solver, "Set" + name)(value)
+    return solver
+
+
+def field(output, name):
+    array = output.GetFieldData().GetArray(name)
+    return array.GetTuple1(0) if array else None
+
+
+def arrays_of(output):
+    """Every point array's numbers, as text (NaN equals NaN)."""
+    pd = output.GetPointData()
+    return {pd.GetArrayName(k): [repr(pd.GetArray(k).GetTuple(i))
+                                 for i in range(pd.GetArray(k).GetNumberOfTuples())]
+            for k in range(pd.GetNumberOfArrays())}
+
+
+def test_cache_answers_agree_with_the_exact_solution():
+    boundary = sphere_boundary(harmonic, resolution=48)
+    probe = plane(0.1)
+    solver = cache_solver(boundary, probe)
+    solver.Update()
+    out = solver.GetOutput()
+    pd = out.GetPointData()
+    from_cache = pd.GetArray("FromBoundaryCache")
+    assert from_cache is not None
+    walks = pd.GetArray("WalkCount")
+    answered = shell = outside = 0
+    for i in range(out.GetNumberOfPoints()):
+        x = out.GetPoint(i)
+        value, variance = pd.GetArray("T").GetTuple1(i), pd.GetArray("T_Variance").GetTuple1(i)
+        if math.sqrt(sum(c * c for c in x)) > 1.0:
+            outside += 1
+            assert math.isnan(value)
+            continue
+        assert abs(value - harmonic(*x)) < 5.0 * math.sqrt(variance), (i, x)
+        gradient = pd.GetArray("T_Gradient").GetTuple3(i)
+        gradient_variance = pd.GetArray("T_Gradient_Variance").GetTuple3(i)
+        for a in range(3):
+            error = gradient[a] - harmonic_gradient(*x)[a]
+            assert abs(error) < 5.0 * math.sqrt(gradient_variance[a]), (i, x, a)
+        if from_cache.GetValue(i):
+            answered += 1
+            assert walks.GetValue(i) == 0
+        else:
+            shell += 1
+            assert walks.GetValue(i) == 64
+    assert answered > 30 and shell > 0 and outside > 0
+    assert field(out, "PointsFromCache") == answered
+    assert field(out, "PointsWalkedInShell") == shell
+    assert field(out, "OutsidePoints") == outside
+    assert field(out, "CachePoints") == 1024
+    assert field(out, "CacheWalksRun") == 1024 * 32
+
+
+def test_a_moved_probe_reuses_the_cache_with_the_numbers_of_a_fresh_solve():
+    boundary = sphere_boundary(harmonic, resolution=48)
+    probe = plane(0.0, resolution=5)
+    solver = cache_solver(boundary, probe)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 1024 * 32
+    move(probe, 0.25)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 0
+    assert field(solver.GetOutput(), "PointsFromCache") > 0
+    fresh = cache_solver(boundary, plane(0.25, resolution=5))
+    fresh.Update()
+    assert arrays_of(solver.GetOutput()) == arrays_of(fresh.GetOutput())
+    # A probe given as data (not a connection) reuses it as well.
+    solver.SetProbeData(point_cloud([(0.1, 0.2, 0.3), (-0.2, 0.1, 0.0)]))
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 0
+    assert field(solver.GetOutput(), "PointsFromCache") == 2
+    # More walks per cache point run only the missing ones; a new seed or
+    # new boundary values build a new cache.
+    solver.SetWalksPerCachePoint(48)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 1024 * 16
+    solver.SetSeed(3)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 1024 * 48
+    solver.SetBoundaryData(sphere_boundary(lambda x, y, z: harmonic(x, y, z) + 1.0,
+                                           resolution=48))
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 1024 * 48
+
+
+def test_a_target_grows_the_cache():
+    boundary = sphere_boundary(harmonic, resolution=48)
+    probe = plane(0.0, resolution=4)
+    solver = cache_solver(boundary, probe, ComputeGradient=False, WalksPerCachePoint=8,
+                          WalksPerPoint=256)
+    solver.Update()
+    variance = solver.GetOutput().GetPointData().GetArray("T_Variance")
+    from_cache = solver.GetOutput().GetPointData().GetArray("FromBoundaryCache")
+    largest = max(variance.GetValue(i) for i in range(variance.GetNumberOfTuples())
+                  if from_cache.GetValue(i))
+    target = 0.5 * math.sqrt(largest)
+    solver.SetTargetStandardError(target)
+    solver.Update()
+    out = solver.GetOutput()
+    assert field(out, "WalksPerCachePoint") > 8
+    assert field(out, "PointsShortOfTarget") == 0
+    variance = out.GetPointData().GetArray("T_Variance")
+    from_cache = out.GetPointData().GetArray("FromBoundaryCache")
+    for i in range(out.GetNumberOfPoints()):
+        if from_cache.GetValue(i):
+            assert variance.GetValue(i) <= target * target
+
+
+def test_what_the_cache_cannot_answer_is_refused_in_words():
+    boundary = sphere_boundary(harmonic, resolution=16)
+    solver = cache_solver(boundary, plane(0.0, resolution=2), ComputeHessian=True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert "ComputeHessian" in catcher.error_text()
+    solver = cache_solver(boundary, plane(0.0, resolution=2))
+    solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.BIHARMONIC)
+    solver.SetInputArrayToProcess(1, 0, 0, POINTS, "T")
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert "Estimator Boundary Cache" in catcher.error_text()
+    assert "Pointwise Walks" in catcher.error_text()
+
+
+def test_the_stream_tracer_follows_the_cache_and_keeps_it():
+    """u = x² − y²: the lines are the hyperbolas x·y = const; moved seeds are
+    traced from the same cache (its walks are not run again)."""
+    from test_stream_tracer import check_hyperbolas, tracer_for
+    seeds = [(0.1, 0.4, 0.0), (0.2, -0.3, 0.1)]
+    tracer = tracer_for(seeds, Estimator=CACHE, CachePoints=2048, WalksPerCachePoint=64,
+                        CacheShellDistance=0.05)
+    tracer.SetBoundaryData(sphere_boundary(resolution=48))
+    tracer.Update()
+    check_hyperbolas(tracer.GetOutput(), seeds, 0.03)
+    first = field(tracer.GetOutput(), "TotalWalks")
+    assert first >= 2048 * 64
+    moved = [(0.15, 0.35, 0.05), (0.25, -0.25, 0.0)]
+    tracer.SetSeedsData(point_cloud(moved))
+    tracer.Update()
+    check_hyperbolas(tracer.GetOutput(), moved, 0.03)
+    # Only walks of points in the shell (2048 each, the tracer's walks per
+    # point), none of the cache's.
+    second = field(tracer.GetOutput(), "TotalWalks")
+    assert second % 2048 == 0 and second < 2048 * 64
