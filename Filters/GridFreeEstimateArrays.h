@@ -54,7 +54,7 @@ struct EstimateArrays
   // jumps, where the closest point switches between distant boundary parts.
   vtkSmartPointer<vtkDoubleArray> ClosestValue;
   DerivativeArrays Derivatives;
-  // Estimator Boundary Cache: 1 where the cache answered, 0 where walks did.
+  // A cache estimator: 1 where the cache answered, 0 where walks did.
   vtkSmartPointer<vtkUnsignedCharArray> FromCache;
   // Points whose error bar is unreliable because their screening weights
   // are uneven, and because their walks (all, or all but one) agreed.
@@ -132,18 +132,16 @@ struct EstimateArrays
     }
   }
 
-  // The boundary cache's answers (GridFreeBoundaryCacheAnswers.h) at the
-  // points it answered: no walks, an error bar from the cache's `strata`
-  // pairs of independent draws (its relative error about √(2/strata)).
+  // A cache's answers (GridFreeCacheAnswers.h) at the points it answered:
+  // no walks, an error bar of relative error `varianceError`.
   template <int DIM>
-  void StoreCached(const CacheEvaluation& e, std::size_t strata)
+  void StoreCached(const CacheEvaluation& e, double varianceError)
   {
     const int nc = this->Components;
     this->FromCache = vtkSmartPointer<vtkUnsignedCharArray>::New();
     this->FromCache->SetName("FromBoundaryCache");
     this->FromCache->SetNumberOfTuples(this->Mean->GetNumberOfTuples());
     this->FromCache->Fill(0);
-    const double varianceError = std::sqrt(2.0 / static_cast<double>(std::max<std::size_t>(strata, 1)));
     for (vtkIdType i = 0; i < this->Mean->GetNumberOfTuples(); ++i)
     {
       if (!std::isfinite(e.Value[static_cast<std::size_t>(i * nc)]))

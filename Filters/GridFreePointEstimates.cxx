@@ -1,7 +1,7 @@
 #include "GridFreePointEstimates.h"
 
 #include "GridFreeArrays.h"
-#include "GridFreeBoundaryCacheAnswers.h"
+#include "GridFreeCacheAnswers.h"
 #include "GridFreeEstimateArrays.h"
 #include "GridFreeEstimateWarnings.h"
 #include "GridFreePointNumbers.h"
@@ -253,32 +253,32 @@ DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool mixed, bool
   return request;
 }
 
-// Points outside the closed boundary, which the boundary cache does not
-// answer.
+// Points outside the closed boundary, which the caches do not answer.
 void WarnOfPointsOutside(std::int64_t outside, std::int64_t points, const Warn& warn)
 {
   if (outside > 0)
   {
     std::ostringstream text;
     text << outside << " of " << points
-         << " probe points lie outside the closed boundary: the boundary cache solves the "
+         << " probe points lie outside the closed boundary: the cache estimators solve the "
             "interior problem only, so their results are NaN (field data OutsidePoints). "
             "Choose the Pointwise Walks estimator for the exterior.";
     warn(text.str());
   }
 }
 
-// The boundary cache's part of a batch, in field data: how many points it
-// answered, its size, and what this batch spent on it (CacheWalksRun 0:
-// the cache was reused as it was).
-template <int DIM>
-void AddCacheFields(vtkFieldData* fd, const BoundaryCacheAnswers<DIM>& cached)
+// A cache's part of a batch, in field data: how many points it answered,
+// its size, and what this batch spent on it (CacheWalksRun 0: the cache
+// was reused as it was).
+void AddCacheFields(vtkFieldData* fd, const CacheAnswers& cached)
 {
   AddFieldValue(fd, "PointsFromCache", static_cast<double>(cached.Answered));
   AddFieldValue(fd, "PointsWalkedInShell", static_cast<double>(cached.Walked.size()));
   AddFieldValue(fd, "OutsidePoints", static_cast<double>(cached.Outside));
-  AddFieldValue(fd, "CachePoints", static_cast<double>(cached.Cache->Size()));
-  AddFieldValue(fd, "WalksPerCachePoint", static_cast<double>(cached.Cache->WalksPerCachePoint()));
+  for (const auto& figure : cached.Figures)
+  {
+    AddFieldValue(fd, figure.first.c_str(), figure.second);
+  }
   AddFieldValue(fd, "CacheWalksRun", static_cast<double>(cached.WalksRun));
   AddFieldValue(fd, "CacheSeconds", cached.Seconds);
 }
@@ -458,9 +458,9 @@ struct ArrayStorage
     return problem.Estimate(points, batch, storePoint, std::ref(progress), kept);
   }
   template <int DIM>
-  void StoreCached(const BoundaryCacheAnswers<DIM>& cached)
+  void StoreCached(const CacheAnswers& cached)
   {
-    this->Arrays.StoreCached<DIM>(cached.Answers, cached.Cache->Size() / 2);
+    this->Arrays.StoreCached<DIM>(cached.Answers, cached.VarianceRelativeError);
   }
   void Finish(bool withWalkCount)
   {
@@ -554,7 +554,7 @@ struct NumberStorage
   // The cache's answers in the slots of the value and the gradient, as
   // finished points with no walks.
   template <int DIM>
-  void StoreCached(const BoundaryCacheAnswers<DIM>& cached)
+  void StoreCached(const CacheAnswers& cached)
   {
     BatchEstimates& b = this->Numbers.Batch;
     const SampleLayout& layout = b.Summary.Layout;
@@ -651,11 +651,11 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   const std::vector<std::array<double, 3>>& points = start.Of(probePoints, mixed);
   const auto numPoints = static_cast<vtkIdType>(probePoints.size());
 
-  const bool cacheChosen = s.Estimator == Estimator::BoundaryCache && built.CacheSlot;
+  const bool cacheChosen = s.Estimator != Estimator::PointwiseWalks && built.Caches;
   const DerivativeRequest derivatives = DerivativesOf(s, nc, mixed, cacheChosen);
   if (cacheChosen && (derivatives.Hessian || derivatives.Directional))
   {
-    vtkErrorWithObjectMacro(self, << "Estimator Boundary Cache gives the value and the gradient: "
+    vtkErrorWithObjectMacro(self, << "The cache estimators give the value and the gradient: "
                                      "turn ComputeHessian and ComputeDirectionalDerivative off, "
                                      "or choose the Pointwise Walks estimator.");
     result.Completed = false;
@@ -672,10 +672,10 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   }
   const double target = batch.TargetStandardError;
 
-  // Estimator Boundary Cache: the cache answers the points clear of the
-  // boundary's shell (building or growing it takes the first part of the
-  // progress), walks answer the others.
-  BoundaryCacheAnswers<DIM> cached;
+  // A cache estimator: the cache answers the points clear of the boundary's
+  // shell (building or growing it takes the first part of the progress),
+  // walks answer the others.
+  CacheAnswers cached;
   PointEstimateRun walkRun = run;
   if (cacheChosen)
   {
@@ -683,7 +683,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     cacheRun.ProgressEnd = walkRun.ProgressBegin =
       run.ProgressBegin + 0.8 * (run.ProgressEnd - run.ProgressBegin);
     ProgressReporter cacheProgress(self, cacheRun, warn, numPoints, s.WalksPerCachePoint, 0.0);
-    if (!AnswerFromBoundaryCache<DIM>(self, built, s, points, derivatives.Gradient, target,
+    if (!AnswerFromCache<DIM>(self, built, s, points, derivatives.Gradient, target,
           std::ref(cacheProgress), cached))
     {
       result.Completed = false;
@@ -691,15 +691,15 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     }
     WarnOfPointsOutside(cached.Outside, numPoints, warn);
   }
-  const std::vector<std::array<double, 3>>& walked = cached.Active() ? cached.WalkedPoints : points;
+  const std::vector<std::array<double, 3>>& walked = cached.Active ? cached.WalkedPoints : points;
 
   // Progressive refinement: the batch continues from the running sums the
   // caller kept (it forgot them if anything but WalksPerPoint changed) and
   // keeps its own.
   ProgressReporter progress(self, walkRun, warn, numPoints, batch.WalksPerPoint, target);
   const BatchSummary summary = arrays.template Run<DIM>(
-    problem, walked, batch, progress, run.Kept, cached.Active() ? &cached.Walked : nullptr);
-  if (cached.Active())
+    problem, walked, batch, progress, run.Kept, cached.Active ? &cached.Walked : nullptr);
+  if (cached.Active)
   {
     arrays.template StoreCached<DIM>(cached);
   }
@@ -714,7 +714,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
   result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
-  arrays.Finish(target > 0.0 || !summary.Completed || cached.Active());
+  arrays.Finish(target > 0.0 || !summary.Completed || cached.Active);
 
   BatchFindings found;
   found.Name = name;
@@ -744,7 +744,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   if (fd)
   {
     AddSummaryFields(fd, found, mixed, start.Outside);
-    if (cached.Active())
+    if (cached.Active)
     {
       AddCacheFields(fd, cached);
     }

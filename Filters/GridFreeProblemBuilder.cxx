@@ -1,7 +1,7 @@
 #include "GridFreeProblemBuilder.h"
 
 #include "GridFreeBoundaryAssembly.h"
-#include "GridFreeBoundaryCacheSlot.h"
+#include "GridFreeCacheSlot.h"
 #include "GridFreeBoundaryValueArrays.h"
 #include "GridFreeInputFingerprint.h"
 #include "GridFreeProblemInputs.h"
@@ -142,9 +142,10 @@ struct ProblemBuilder::Internals
   // The same for mixed boundary conditions.
   std::shared_ptr<const MixedBoundary<2>> Mixed2;
   std::shared_ptr<const MixedBoundary<3>> Mixed3;
-  // The boundary value cache's slot and what its cache is built from.
-  std::vector<std::uint64_t> CacheKey;
-  std::shared_ptr<BoundaryCacheSlot> CacheSlot;
+  // The caches' slot, what every cache in it is built from, and what each
+  // kind's own settings are.
+  std::vector<std::uint64_t> CacheKey, BoundaryCacheKey, SphereCacheKey;
+  std::shared_ptr<CacheSlot> Caches;
 
   template <int DIM>
   std::shared_ptr<const Boundary<DIM>>& CachedBoundary()
@@ -224,10 +225,9 @@ struct ProblemBuilder::Internals
     return key;
   }
 
-  // What a boundary value cache is built from: the boundary's key, the
-  // source and its array or expression, the equation, the walks' settings
-  // and seed, and the cache's own settings but its walks per point (a
-  // cache grows to more walks, BoundaryValueCache::Refine).
+  // What a solution cache is built from: the boundary's key, the source
+  // and its array or expression, the equation, the walks' settings and the
+  // seed.
   std::vector<std::uint64_t> MakeCacheKey(const WalkSettings& walk) const
   {
     const ProblemInputs& in = this->Inputs;
@@ -240,17 +240,48 @@ struct ProblemBuilder::Internals
       key.push_back(~std::uint64_t(0));
     }
     AppendString(in.Expression, key);
-    for (double v : { walk.Epsilon, walk.ScreeningCoefficient, s.CacheOffset,
-           s.CacheShellDistance })
-    {
-      AppendDouble(v, key);
-    }
+    AppendDouble(walk.Epsilon, key);
+    AppendDouble(walk.ScreeningCoefficient, key);
     for (int v : { walk.MaxSteps, static_cast<int>(walk.Problem), static_cast<int>(walk.Sampling),
-           static_cast<int>(s.SourceOperator), s.Seed, s.CachePoints, s.CacheVolumePoints })
+           static_cast<int>(s.SourceOperator), s.Seed })
     {
       key.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
     }
     return key;
+  }
+
+  // The slot for `out`: the same while the cache key holds; a cache kind
+  // whose own settings changed is dropped (the boundary cache's walks per
+  // point are not among them: it grows to more, BoundaryValueCache::Refine).
+  void KeepCaches(const WalkSettings& walk, BuiltProblem& out)
+  {
+    const SolveSettings& s = this->Settings;
+    std::vector<std::uint64_t> key = this->MakeCacheKey(walk);
+    if (!this->Caches || key != this->CacheKey)
+    {
+      this->Caches = std::make_shared<CacheSlot>();
+      this->CacheKey = std::move(key);
+    }
+    std::vector<std::uint64_t> boundary, spheres;
+    AppendDouble(s.CacheOffset, boundary);
+    AppendDouble(s.CacheShellDistance, boundary);
+    boundary.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.CachePoints)));
+    boundary.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.CacheVolumePoints)));
+    AppendDouble(s.CacheShellDistance, spheres);
+    spheres.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.WalksPerSphere)));
+    if (boundary != this->BoundaryCacheKey)
+    {
+      this->Caches->Boundary2.reset();
+      this->Caches->Boundary3.reset();
+      this->BoundaryCacheKey = std::move(boundary);
+    }
+    if (spheres != this->SphereCacheKey)
+    {
+      this->Caches->Spheres2.reset();
+      this->Caches->Spheres3.reset();
+      this->SphereCacheKey = std::move(spheres);
+    }
+    out.Caches = this->Caches;
   }
 
   template <int DIM>
@@ -272,7 +303,7 @@ void ProblemBuilder::Forget()
   this->Internal->Mixed2.reset();
   this->Internal->Mixed3.reset();
   this->Internal->CacheKey.clear();
-  this->Internal->CacheSlot.reset();
+  this->Internal->Caches.reset();
 }
 
 bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
@@ -662,18 +693,12 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   {
     out.Problem3 = problem;
   }
-  // The boundary cache lives with the problem: the same slot while the
-  // problem is built from the same data and settings. (Kept while another
-  // estimator is chosen, so that choosing the cache again reuses it.)
-  if (s.Estimator == Estimator::BoundaryCache)
+  // The caches live with the problem: the same slot while the problem is
+  // built from the same data and settings (kept while the pointwise
+  // estimator is chosen, so that choosing a cache again reuses it).
+  if (s.Estimator != Estimator::PointwiseWalks)
   {
-    std::vector<std::uint64_t> cacheKey = this->MakeCacheKey(settings);
-    if (!this->CacheSlot || cacheKey != this->CacheKey)
-    {
-      this->CacheSlot = std::make_shared<BoundaryCacheSlot>();
-      this->CacheKey = std::move(cacheKey);
-    }
-    out.CacheSlot = this->CacheSlot;
+    this->KeepCaches(settings, out);
   }
   return true;
 }

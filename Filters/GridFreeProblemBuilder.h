@@ -27,7 +27,7 @@ class vtkObject;
 
 namespace gridfree
 {
-struct BoundaryCacheSlot;
+struct CacheSlot;
 
 // A problem ready to answer batches, and how its results are named.
 struct BuiltProblem
@@ -38,9 +38,10 @@ struct BuiltProblem
   std::string Name = "Solution"; // of the solution arrays (the boundary array's name)
   int Components = 1;            // of the solution (g's; h's are as many)
   bool Biharmonic = false;
-  // The boundary value cache of this problem, shared with the problems
-  // built before from the same data and settings (GridFreeBoundaryCacheSlot.h).
-  std::shared_ptr<BoundaryCacheSlot> CacheSlot;
+  // The solution caches of this problem, shared with the problems built
+  // before from the same data and settings (GridFreeCacheSlot.h); null for
+  // the pointwise estimator.
+  std::shared_ptr<CacheSlot> Caches;
   // max - min of the boundary values g over their components (NaN when g is
   // given by expressions only): what a relative target error refers to.
   double ValueRange = 0.0;

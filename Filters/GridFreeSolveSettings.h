@@ -23,13 +23,15 @@ class vtkImplicitFunction;
 
 namespace gridfree
 {
-// How probe points are answered: each by its own walks, or by the boundary
-// value cache (gridfree/cache/BoundaryValueCache.h) that every probe shares,
-// with walks only in the shell near the boundary.
+// How probe points are answered: each by its own walks, or by a cache that
+// every probe shares, with walks only in the shell near the boundary: the
+// boundary value cache (gridfree/cache/BoundaryValueCache.h) or the sphere
+// cache (gridfree/cache/SphereCache.h).
 enum class Estimator
 {
   PointwiseWalks = 0,
-  BoundaryCache = 1
+  BoundaryCache = 1,
+  SphereCache = 2
 };
 
 struct SolveSettings
@@ -71,14 +73,18 @@ struct SolveSettings
   int Seed = 0;
   int NumberOfThreads = 0;
 
-  // The estimator, and the boundary cache's settings (BoundaryCacheSettings:
-  // offset and shell distance relative to the boundary's diagonal).
+  // The estimator; the caches' shell (points closer to the boundary, relative
+  // to its diagonal, take their own walks); the boundary cache's settings
+  // (BoundaryCacheSettings: offset relative to the diagonal); the sphere
+  // cache's (SphereCacheSettings).
   gridfree::Estimator Estimator = gridfree::Estimator::PointwiseWalks;
+  double CacheShellDistance = 0.02;
   int CachePoints = 4096;
   int WalksPerCachePoint = 64;
   int CacheVolumePoints = 8192;
   double CacheOffset = 0.01;
-  double CacheShellDistance = 0.05;
+  int WalksPerSphere = 128;
+  int CacheSourceSamples = 256;
 
   // The derivatives.
   bool ComputeGradient = false;

@@ -31,12 +31,14 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, EpsilonIsRelative, bool, f
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, MaxSteps, int, 1, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, Seed, int, VTK_INT_MIN, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, NumberOfThreads, int, 0, VTK_INT_MAX)
-GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresAlgorithm, Estimator, gridfree::Estimator, 1)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresAlgorithm, Estimator, gridfree::Estimator, 2)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CachePoints, int, 2, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, WalksPerCachePoint, int, 2, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheVolumePoints, int, 2, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheOffset, double, 1e-6, 0.5)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheShellDistance, double, 0.0, 1.0)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, WalksPerSphere, int, 4, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheSourceSamples, int, 2, VTK_INT_MAX)
 
 gridfree::SolveSettings& vtkWalkOnSpheresAlgorithm::GetSettings()
 {
@@ -107,5 +109,7 @@ void vtkWalkOnSpheresAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CacheVolumePoints: " << s.CacheVolumePoints << "\n";
   os << indent << "CacheOffset: " << s.CacheOffset << "\n";
   os << indent << "CacheShellDistance: " << s.CacheShellDistance << "\n";
+  os << indent << "WalksPerSphere: " << s.WalksPerSphere << "\n";
+  os << indent << "CacheSourceSamples: " << s.CacheSourceSamples << "\n";
   os << indent << "LastBoundaryBuilt: " << this->Kept->LastBoundaryBuilt << "\n";
 }

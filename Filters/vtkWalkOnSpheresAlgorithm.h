@@ -91,27 +91,32 @@ public:
   /**
    * How probe points are answered (default POINTWISE_WALKS):
    * - POINTWISE_WALKS: each point by its own walks;
-   * - BOUNDARY_CACHE: by a boundary value cache that every probe shares
-   *   (Miller et al. 2023): walks estimate the normal derivative once, at
-   *   CachePoints points on the boundary, and each probe point is answered
-   *   by Green's representation formula with no walks of its own. Points
-   *   closer to the boundary than CacheShellDistance take their own walks;
-   *   points outside the closed boundary get NaN (interior problems only).
-   *   The cache is kept with the problem: a moved probe (slice, seeds)
-   *   reuses it with no new walks; a change of the boundary, its values,
-   *   the source, the equation, Epsilon, MaxSteps, the seed or the cache's
-   *   settings builds a new one. More WalksPerCachePoint grows it. A
-   *   TargetStandardError doubles its walks until every point it answers
-   *   meets the target (up to WalksPerPoint walks per cache point).
-   *   Laplace, Poisson (volume sources) and screened Poisson equations
-   *   with Dirichlet conditions on a closed mesh; value and gradient only.
-   *   Nearby points share the cache's walks, so their errors are
-   *   correlated: a smooth picture whose error does not average out.
+   * - SPHERE_CACHE: by walks from spheres inside the domain that every
+   *   probe shares: a point deeper than CacheShellDistance is answered by
+   *   Poisson's integral formula over the nearest sphere of a lattice that
+   *   holds it (WalksPerSphere walks, made when a point first needs it and
+   *   kept), with no walks of its own; nearby points share a sphere, so
+   *   their errors are correlated within it;
+   * - BOUNDARY_CACHE: by a boundary value cache (Miller et al. 2023): walks
+   *   estimate the normal derivative once, at CachePoints points on the
+   *   boundary, and each point is answered by Green's representation
+   *   formula; its errors are correlated over the whole probe.
+   * Points closer to the boundary than CacheShellDistance take their own
+   * walks; points outside the closed boundary get NaN (interior problems
+   * only). A cache is kept with the problem: a moved probe (slice, seeds)
+   * reuses it; a change of the boundary, its values, the source, the
+   * equation, Epsilon, MaxSteps, the seed or the cache's own settings
+   * builds a new one. A TargetStandardError doubles the cache's walks
+   * (per sphere, or per boundary cache point) until every point it answers
+   * meets the target, up to WalksPerPoint. Laplace and Poisson equations
+   * (volume sources; the boundary cache also screened Poisson) with
+   * Dirichlet conditions on a closed mesh; value and gradient only.
    */
   enum EstimatorType
   {
     POINTWISE_WALKS = 0,
-    BOUNDARY_CACHE = 1
+    BOUNDARY_CACHE = 1,
+    SPHERE_CACHE = 2
   };
   void SetEstimator(int estimator);
   int GetEstimator();
@@ -119,9 +124,33 @@ public:
 
   ///@{
   /**
-   * The boundary cache's size (BOUNDARY_CACHE): points on the boundary
-   * (default 4096; two per stratum of equal area), walks per cache point
-   * (default 64), and points of a source's volume integral (default 8192).
+   * Points closer to the boundary than this (relative to its bounding-box
+   * diagonal; default 0.02) take their own walks rather than the cache's
+   * answer (SPHERE_CACHE, BOUNDARY_CACHE).
+   */
+  void SetCacheShellDistance(double distance);
+  double GetCacheShellDistance();
+  ///@}
+
+  ///@{
+  /**
+   * The sphere cache (SPHERE_CACHE): walks per sphere when it is made
+   * (default 128), and samples of a source's integral over the sphere per
+   * answered point (default 256).
+   */
+  void SetWalksPerSphere(int walks);
+  int GetWalksPerSphere();
+  void SetCacheSourceSamples(int samples);
+  int GetCacheSourceSamples();
+  ///@}
+
+  ///@{
+  /**
+   * The boundary cache (BOUNDARY_CACHE): points on the boundary (default
+   * 4096; two per stratum of equal area), walks per cache point (default
+   * 64; more grows the cache), points of a source's volume integral
+   * (default 8192), and how far inside the boundary the normal derivative
+   * is estimated (CacheOffset, relative to the diagonal; default 0.01).
    */
   void SetCachePoints(int points);
   int GetCachePoints();
@@ -129,20 +158,8 @@ public:
   int GetWalksPerCachePoint();
   void SetCacheVolumePoints(int points);
   int GetCacheVolumePoints();
-  ///@}
-
-  ///@{
-  /**
-   * The boundary cache's depth and shell (BOUNDARY_CACHE), relative to the
-   * boundary's bounding-box diagonal: the normal derivative is estimated
-   * CacheOffset inside the boundary (default 0.01; smaller is less biased
-   * and noisier), and points closer than CacheShellDistance (default 0.05)
-   * take their own walks.
-   */
   void SetCacheOffset(double offset);
   double GetCacheOffset();
-  void SetCacheShellDistance(double distance);
-  double GetCacheShellDistance();
   ///@}
 
   /**

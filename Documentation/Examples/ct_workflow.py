@@ -19,8 +19,10 @@ scan was cut, so the skin encloses the head.
 Three ways to run it:
   - headless (pvbatch or pvpython), writing data and a picture:
         pvbatch ct_workflow.py --output output
-    (`./gridfree demo` runs it after the head-slice demo); prints points,
-    walks, seconds and walks per second.
+    prints points, walks, seconds and walks per second. `./gridfree demo`
+    runs it after the head-slice demo with the sphere cache, to 0.5 degrees
+    at every point inside the head:
+        pvbatch ct_workflow.py --output output --estimator sphere --target 0.5 --walks 4096
   - in the ParaView GUI, at start-up:
         ./gridfree paraview --script=Documentation/Examples/ct_workflow.py
   - in the ParaView GUI as a macro: Macros > Import new macro..., pick this
@@ -95,13 +97,23 @@ def parse_arguments(argv):
     parser.add_argument("--walks", type=int, default=128, help="walks per slice point")
     parser.add_argument("--slice-z", type=float, default=70.0, help="height of the slice (mm)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--estimator", choices=("pointwise", "sphere"), default="pointwise",
+                        help="pointwise walks at every slice point, or the sphere cache that "
+                             "moved slices share")
+    parser.add_argument("--target", type=float, default=0.0,
+                        help="target standard error in degrees (0: a fixed count of walks)")
+    parser.add_argument("--walks-per-sphere", type=int, default=64,
+                        help="walks of each sphere of the sphere cache when it is made")
     return parser.parse_args(argv)
 
 
-def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
+def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0, estimator="pointwise",
+                   target=0.0, walks_per_sphere=64):
     """Creates the workflow's proxies and returns them by name. The volume is
     read (for its grid) and the solver runs once (the arrows are scaled to
-    its gradient); a view or UpdatePipeline runs the rest."""
+    its gradient); a view or UpdatePipeline runs the rest. With the sphere
+    cache (estimator "sphere") a moved slice reuses the walks of the spheres
+    it meets again; points outside the head are NaN (it solves inside)."""
     if not hasattr(pvs, "WalkOnSpheresSolver"):
         sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder "
                  "(`./gridfree env` prints it) or load it in Tools > Manage Plugins.")
@@ -152,6 +164,10 @@ def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0):
     solver.ComputeGradient = 1
     solver.WalksPerPoint = walks
     solver.Seed = seed
+    if estimator == "sphere":
+        solver.Estimator = "Sphere Cache"
+        solver.WalksPerSphere = walks_per_sphere
+    solver.TargetStandardError = target
     p["solver"] = solver
     pvs.RenameSource("Walk On Spheres Solver", solver)
     # The Threshold's and the tracer's array lists (MetaImage, T_Gradient).
@@ -201,6 +217,9 @@ def show(p, view):
     pvs.ColorBy(slice_display, ("POINTS", "T"))
     lut = pvs.GetColorTransferFunction("T")
     lut.ApplyPreset("Inferno (matplotlib)", True)
+    # Points outside the head are NaN with a cache estimator (it solves
+    # inside): left out of the picture rather than painted.
+    lut.NanOpacity = 0.0
     slice_display.RescaleTransferFunctionToDataRange(False, True)
     slice_display.SetScalarBarVisibility(view, True)
     bar = pvs.GetScalarBar(lut, view)
@@ -243,7 +262,8 @@ def summary(solver):
 def run_headless(args):
     os.makedirs(args.output, exist_ok=True)
     volume = args.volume or os.path.join(data_folder(), VOLUME_NAME)
-    p = build_pipeline(volume, args.walks, args.slice_z, args.seed)
+    p = build_pipeline(volume, args.walks, args.slice_z, args.seed, args.estimator, args.target,
+                       args.walks_per_sphere)
     p["solver"].UpdatePipeline()
     s = summary(p["solver"])
     # Under `mpirun -np N pvbatch` each rank solves its own piece of the slice.
@@ -251,9 +271,19 @@ def run_headless(args):
     if ranks > 1:
         print("ranks: %d" % ranks)
     print("points: %d" % p["solver"].GetDataInformation().GetNumberOfPoints())
-    print("walks: %d (%d per point, %.1f steps per walk)"
-          % (s["TotalWalks"], args.walks, s["MeanStepsPerWalk"]))
-    print("seconds: %.2f" % s["SolveSeconds"])
+    if args.estimator == "sphere":
+        fd = p["solver"].FieldData
+        print("sphere cache: %d points answered by %d spheres (%d walks), %d points walked "
+              "near the skin" % (fd["PointsFromCache"].GetRange()[0],
+                                 fd["CacheSpheres"].GetRange()[0], fd["CacheWalks"].GetRange()[0],
+                                 fd["PointsWalkedInShell"].GetRange()[0]))
+    print("walks%s: %d (%s per point, %.1f steps per walk)"
+          % (" near the skin" if args.estimator == "sphere" else "", s["TotalWalks"],
+             "at most %d" % args.walks if args.target > 0 else str(args.walks),
+             s["MeanStepsPerWalk"]))
+    cache_seconds = p["solver"].FieldData["CacheSeconds"].GetRange()[0] \
+        if args.estimator == "sphere" else 0.0
+    print("seconds: %.2f" % (s["SolveSeconds"] + cache_seconds))
     print("walks per second: %.0f" % s["WalksPerSecond"])
     p["streamlines"].UpdatePipeline()
     print("streamline points: %d" % p["streamlines"].GetDataInformation().GetNumberOfPoints())

@@ -1,10 +1,20 @@
-// Boundary value caching against pointwise walks on one slice (`./gridfree
-// bench --cache`): a harmonic problem on an icosphere, a 100 × 100 slice
-// through it, each method at several sizes, with its time and its RMSE
-// against the exact solution. The cache answers the points outside its
-// shell; the shell's points take pointwise walks in both methods, so the
-// table splits the RMSE (and the time) there.
+// The caches against pointwise walks on one slice (`./gridfree bench
+// --cache`): a harmonic problem on a closed surface (the 327,680-triangle
+// icosphere, the bumpy sphere of as many triangles, which is not convex, or
+// the CT skin), a 100 × 100 slice through it, each method at several sizes,
+// with its time and its RMSE against the exact solution.
+//
+// The sphere cache (SphereCache.h) answers the slice's points but those in
+// its shell, which take pointwise walks (as many as the cache's walks per
+// sphere); its rows count both, and the time pointwise walks take for the
+// same RMSE (RMSE² × seconds is about constant for them: fitted on their
+// rows). With --boundary, the boundary value cache's rows (BoundaryValueCache.h,
+// icosphere only) follow: it answers the points outside its own shell, so
+// the table splits the RMSE (and the time) there.
 #include <gridfree/cache/BoundaryValueCache.h>
+#include <gridfree/cache/CacheProblemChecks.h>
+#include <gridfree/cache/SphereCache.h>
+#include "BenchmarkMeshes.h"
 #include "EstimatorChecks.h"
 #include "TestMeshes.h"
 
@@ -23,6 +33,18 @@ using namespace gridfree::testing;
 
 namespace
 {
+// The harmonic solution, in the shape's box scaled to [−1, 1]³.
+struct Harmonic
+{
+  Vec3 Center = Vec3::Zero();
+  double Scale = 1.0;
+  double operator()(const Vec3& y) const
+  {
+    const Vec3 x = (y - this->Center) / this->Scale;
+    return x[0] * x[0] - x[1] * x[1] + 0.3 * x[2];
+  }
+};
+
 double Exact(const Vec3& x)
 {
   return x[0] * x[0] - x[1] * x[1] + 0.3 * x[2];
@@ -39,19 +61,25 @@ struct Slice
   std::vector<double> Exact;
 };
 
-// A 100 × 100 slice of the plane z = 0.1 over [−1, 1]², the points inside.
-Slice MakeSlice(int n)
+// An n × n slice of the plane z = 0.1 (in the box scaled to [−1, 1]³) over
+// the box, the points inside at least 3% of the scale from the boundary
+// (on the unit icosphere: |x| < 0.97).
+Slice MakeSlice(const Boundary<3>& boundary, const Harmonic& exact, const bench::Box& box, int n)
 {
+  const int orientation = OutwardOrientation<3>(boundary);
   Slice slice;
   for (int j = 0; j < n; ++j)
   {
     for (int i = 0; i < n; ++i)
     {
-      const Vec3 x(-1.0 + 2.0 * (i + 0.5) / n, -1.0 + 2.0 * (j + 0.5) / n, 0.1);
-      if (x.norm() < 0.97)
+      const Vec3 x(box.Min[0] + (box.Max[0] - box.Min[0]) * (i + 0.5) / n,
+        box.Min[1] + (box.Max[1] - box.Min[1]) * (j + 0.5) / n,
+        exact.Center[2] + 0.1 * exact.Scale);
+      const ClosestPointResult<3> hit = boundary.ClosestPoint(x);
+      if (!OutsideClosedMesh<3>(boundary, orientation, x, hit) && hit.distance > 0.03 * exact.Scale)
       {
         slice.Points.push_back({ x[0], x[1], x[2] });
-        slice.Exact.push_back(Exact(x));
+        slice.Exact.push_back(exact(x));
       }
     }
   }
@@ -69,55 +97,11 @@ struct Errors
   }
   double Rmse() const { return Count ? std::sqrt(SumSquares / Count) : 0.0; }
 };
-} // namespace
-
-int main(int argc, char** argv)
+// The boundary value cache's rows (the unit icosphere only: the exact
+// normal derivatives below are the icosphere's).
+void BoundaryCacheRows(const Problem<3>& problem, const Slice& slice, double offset, bool quick,
+  int seeds, const std::vector<std::size_t>& cacheSizes, const std::vector<int>& cacheWalks)
 {
-  int levels = 7; // 327,680 triangles
-  int resolution = 100;
-  double offset = BoundaryCacheSettings().Offset;
-  bool quick = false;
-  int seeds = 4;
-  std::vector<std::size_t> cacheSizes = { 1024, 4096, 16384 };
-  std::vector<int> cacheWalks = { 16, 64 };
-  for (int a = 1; a < argc; ++a)
-  {
-    if (!std::strcmp(argv[a], "--levels") && a + 1 < argc)
-    {
-      levels = std::atoi(argv[++a]);
-    }
-    else if (!std::strcmp(argv[a], "--offset") && a + 1 < argc)
-    {
-      offset = std::atof(argv[++a]);
-    }
-    else if (!std::strcmp(argv[a], "--seeds") && a + 1 < argc)
-    {
-      seeds = std::max(1, std::atoi(argv[++a]));
-    }
-    else if (!std::strcmp(argv[a], "--cache") && a + 2 < argc)
-    {
-      // One cache size instead of the sweep: --cache POINTS WALKS.
-      cacheSizes = { static_cast<std::size_t>(std::atol(argv[++a])) };
-      cacheWalks = { std::atoi(argv[++a]) };
-    }
-    else if (!std::strcmp(argv[a], "--quick"))
-    {
-      quick = true;
-    }
-    else if (!std::strcmp(argv[a], "--resolution") && a + 1 < argc)
-    {
-      resolution = std::atoi(argv[++a]);
-    }
-  }
-  const SimplexMesh<3> mesh = MakeIcosphere(levels);
-  const auto boundary = std::make_shared<const Boundary<3>>(MakeBoundary<3>(mesh, { Exact }));
-  WalkSettings walk;
-  walk.Epsilon = 1e-4;
-  const Problem<3> problem(boundary, walk);
-  const Slice slice = MakeSlice(resolution);
-  std::printf("icosphere, %zu triangles; slice %d x %d, %zu points inside\n\n",
-    mesh.Simplices.size(), resolution, resolution, slice.Points.size());
-
   // The shell's points, as the cache sees them.
   BoundaryCacheSettings shellProbe;
   shellProbe.CachePoints = 2;
@@ -138,7 +122,7 @@ int main(int argc, char** argv)
   std::printf("%zu of them in the shell (closer than %.3f to the boundary)\n\n", shellPoints.size(),
     probeShell.ShellDistance());
 
-  std::printf("| method | size | seconds | RMSE outside the shell | RMSE in the shell | RMSE |\n");
+  std::printf("Boundary value cache:\n\n| method | size | seconds | RMSE outside the shell | RMSE in the shell | RMSE |\n");
   std::printf("|---|---|---|---|---|---|\n");
   // (Cache rows: seconds to build and evaluate one cache; the shell's
   // pointwise walks come on top, in their last column.)
@@ -256,6 +240,200 @@ int main(int argc, char** argv)
           points, positional.Rmse());
       }
     }
+  }
+}
+
+// Pointwise walks at every point of the slice: one row per walk count,
+// and the constant C of RMSE² × seconds ≈ C (their mean), for the time
+// they would take at another RMSE.
+double PointwiseRows(const Problem<3>& problem, const Slice& slice, bool quick)
+{
+  double constant = 0.0;
+  int rows = 0;
+  for (int walks : { 16, 64, 256, 1024 })
+  {
+    if (quick && (walks == 16 || walks == 1024))
+    {
+      continue;
+    }
+    BatchRequest request;
+    request.WalksPerPoint = walks;
+    const auto start = std::chrono::steady_clock::now();
+    const BatchEstimates u = problem.EstimateAll(slice.Points, request);
+    const double seconds = Seconds(start);
+    Errors all;
+    for (std::size_t i = 0; i < slice.Points.size(); ++i)
+    {
+      all.Add(u.Value(i), slice.Exact[i]);
+    }
+    constant += all.Rmse() * all.Rmse() * seconds;
+    ++rows;
+    std::printf("| pointwise | %d walks per point | %.2f | %.2e | | |\n", walks, seconds, all.Rmse());
+  }
+  return constant / rows;
+}
+
+// The sphere cache at several walks per sphere, each pooled over `seeds`
+// caches (one cache's errors are correlated within a sphere): seconds to
+// make the spheres and answer, plus the shell's pointwise walks; the RMSE
+// over every point; the pointwise time at that RMSE.
+void SphereCacheRows(const Problem<3>& problem, const Slice& slice, bool quick, int seeds,
+  double pointwiseConstant)
+{
+  for (int samples : { 16, 64, 256, 1024 })
+  {
+    if (quick && (samples == 16 || samples == 1024))
+    {
+      continue;
+    }
+    double seconds = 0.0, sumZ2 = 0.0;
+    std::size_t spheres = 0, zCount = 0, shell = 0;
+    Errors all;
+    for (int seed = 0; seed < seeds; ++seed)
+    {
+      SphereCacheSettings settings;
+      settings.SamplesPerSphere = samples;
+      settings.Seed = static_cast<std::uint64_t>(seed);
+      const auto start = std::chrono::steady_clock::now();
+      SphereCache<3> cache(problem, settings);
+      CacheEvaluation answer;
+      cache.Answer(problem, slice.Points, false, answer);
+      std::vector<std::array<double, 3>> walked;
+      std::vector<std::size_t> walkedIndex;
+      for (std::size_t i = 0; i < slice.Points.size(); ++i)
+      {
+        if (!std::isfinite(answer.Value[i]))
+        {
+          walked.push_back(slice.Points[i]);
+          walkedIndex.push_back(i);
+        }
+      }
+      BatchRequest request;
+      request.WalksPerPoint = samples;
+      request.Seed = static_cast<std::uint64_t>(seed);
+      const BatchEstimates near = problem.EstimateAll(walked, request);
+      seconds += Seconds(start);
+      spheres += cache.SphereCount();
+      shell += walked.size();
+      for (std::size_t k = 0; k < walked.size(); ++k)
+      {
+        answer.Value[walkedIndex[k]] = near.Value(k);
+        answer.ValueVariance[walkedIndex[k]] = near.ValueVariance(k);
+      }
+      for (std::size_t i = 0; i < slice.Points.size(); ++i)
+      {
+        all.Add(answer.Value[i], slice.Exact[i]);
+        const double z = (answer.Value[i] - slice.Exact[i]) / std::sqrt(answer.ValueVariance[i]);
+        sumZ2 += z * z;
+        ++zCount;
+      }
+    }
+    seconds /= seeds;
+    const double equal = pointwiseConstant / (all.Rmse() * all.Rmse());
+    std::printf("| sphere cache | %d walks per sphere (%zu spheres, %zu points walked in the "
+                "shell; mean z2 %.2f over %d caches) | %.2f | %.2e | %.2f | %.1fx |\n",
+      samples, spheres / static_cast<std::size_t>(seeds), shell / static_cast<std::size_t>(seeds),
+      sumZ2 / static_cast<double>(zCount), seeds, seconds, all.Rmse(), equal, equal / seconds);
+  }
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+  int levels = 7; // 327,680 triangles
+  int resolution = 100;
+  double offset = BoundaryCacheSettings().Offset;
+  bool quick = false, boundaryRows = false;
+  int seeds = 4;
+  std::string shape = "icosphere", data;
+  std::vector<std::size_t> cacheSizes = { 1024, 4096, 16384 };
+  std::vector<int> cacheWalks = { 16, 64 };
+  for (int a = 1; a < argc; ++a)
+  {
+    if (!std::strcmp(argv[a], "--levels") && a + 1 < argc)
+    {
+      levels = std::atoi(argv[++a]);
+    }
+    else if (!std::strcmp(argv[a], "--shape") && a + 1 < argc)
+    {
+      shape = argv[++a];
+    }
+    else if (!std::strcmp(argv[a], "--data") && a + 1 < argc)
+    {
+      data = argv[++a];
+    }
+    else if (!std::strcmp(argv[a], "--offset") && a + 1 < argc)
+    {
+      offset = std::atof(argv[++a]);
+    }
+    else if (!std::strcmp(argv[a], "--seeds") && a + 1 < argc)
+    {
+      seeds = std::max(1, std::atoi(argv[++a]));
+    }
+    else if (!std::strcmp(argv[a], "--cache") && a + 2 < argc)
+    {
+      // One boundary cache size instead of the sweep: --cache POINTS WALKS.
+      cacheSizes = { static_cast<std::size_t>(std::atol(argv[++a])) };
+      cacheWalks = { std::atoi(argv[++a]) };
+    }
+    else if (!std::strcmp(argv[a], "--quick"))
+    {
+      quick = true;
+    }
+    else if (!std::strcmp(argv[a], "--boundary"))
+    {
+      boundaryRows = true;
+    }
+    else if (!std::strcmp(argv[a], "--resolution") && a + 1 < argc)
+    {
+      resolution = std::atoi(argv[++a]);
+    }
+  }
+  SimplexMesh<3> mesh;
+  if (shape == "bumpy")
+  {
+    mesh = bench::MakeBumpySphere(128); // 327,680 triangles
+  }
+  else if (shape == "ct")
+  {
+    // The CT skin: --data, or the Data folder GRIDFREE_DATA names.
+    if (data.empty() && std::getenv("GRIDFREE_DATA"))
+    {
+      data = std::string(std::getenv("GRIDFREE_DATA")) + "/headsq_skin_iso500_closed.vtp";
+    }
+    if (data.empty())
+    {
+      std::fprintf(stderr, "--shape ct needs --data FILE.vtp (or GRIDFREE_DATA)\n");
+      return 1;
+    }
+    mesh = bench::ReadPolyDataTriangles(data);
+  }
+  else
+  {
+    shape = "icosphere";
+    mesh = MakeIcosphere(levels);
+  }
+  const bench::Box box = bench::BoundsOf(mesh);
+  Harmonic exact;
+  exact.Center = box.Center();
+  exact.Scale = 0.5 * (box.Max - box.Min).maxCoeff();
+  const auto boundary = std::make_shared<const Boundary<3>>(
+    MakeBoundary<3>(mesh, { [exact](const Vec3& x) { return exact(x); } }));
+  WalkSettings walk;
+  walk.Epsilon = 1e-4 * exact.Scale;
+  const Problem<3> problem(boundary, walk);
+  const Slice slice = MakeSlice(*boundary, exact, box, resolution);
+  std::printf("%s, %zu triangles; slice %d x %d, %zu points inside\n\n", shape.c_str(),
+    mesh.Simplices.size(), resolution, resolution, slice.Points.size());
+
+  std::printf("| method | size | seconds | RMSE | pointwise seconds at this RMSE | less time |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  const double constant = PointwiseRows(problem, slice, quick);
+  SphereCacheRows(problem, slice, quick, seeds, constant);
+  if (boundaryRows && shape == "icosphere")
+  {
+    std::printf("\n");
+    BoundaryCacheRows(problem, slice, offset, quick, seeds, cacheSizes, cacheWalks);
   }
   return 0;
 }

@@ -41,6 +41,7 @@
 #ifndef GRIDFREE_CACHE_BOUNDARY_VALUE_CACHE_H
 #define GRIDFREE_CACHE_BOUNDARY_VALUE_CACHE_H
 
+#include <gridfree/cache/CacheProblemChecks.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/math/BesselFunctions.h>
@@ -85,6 +86,19 @@ struct CacheEvaluation
   std::vector<double> Value, ValueVariance;       // points × components
   std::vector<double> Gradient, GradientVariance; // points × components × DIM
   std::vector<unsigned char> InShell, Outside;
+
+  // `n` points of `nc` components, every answer NaN, no flags.
+  void Reset(std::size_t n, int nc, int dim, bool gradient)
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::size_t values = n * static_cast<std::size_t>(nc);
+    this->Value.assign(values, nan);
+    this->ValueVariance.assign(values, nan);
+    this->Gradient.assign(gradient ? values * static_cast<std::size_t>(dim) : 0, nan);
+    this->GradientVariance.assign(gradient ? values * static_cast<std::size_t>(dim) : 0, nan);
+    this->InShell.assign(n, 0);
+    this->Outside.assign(n, 0);
+  }
 };
 
 namespace detail
@@ -153,17 +167,13 @@ public:
   {
     const Boundary<DIM>& boundary = *this->Shape;
     const Equation equation = problem.Settings().Problem;
-    if (equation == Equation::Biharmonic || problem.GetMixedBoundary())
+    if (equation == Equation::Biharmonic)
     {
       throw std::invalid_argument("the boundary cache answers Laplace's, Poisson's and the "
-                                  "screened Poisson equation with Dirichlet conditions only (yet)");
+                                  "screened Poisson equation only (yet)");
     }
+    RequireDirichletWithVolumeSources<DIM>(problem, "the boundary cache");
     const SourceSet<DIM>* sources = problem.GetSources();
-    if (sources && (sources->Points || sources->Curves))
-    {
-      throw std::invalid_argument(
-        "the boundary cache takes volume sources only (yet): no point or curve sources");
-    }
     this->Screening = equation == Equation::ScreenedPoisson
       ? std::sqrt(problem.Settings().ScreeningCoefficient)
       : 0.0;
@@ -239,14 +249,7 @@ public:
     CacheEvaluation& out) const
   {
     const std::size_t n = at.size();
-    const int nc = this->Components;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.Value.assign(n * nc, nan);
-    out.ValueVariance.assign(n * nc, nan);
-    out.Gradient.assign(gradient ? n * nc * DIM : 0, nan);
-    out.GradientVariance.assign(gradient ? n * nc * DIM : 0, nan);
-    out.InShell.assign(n, 0);
-    out.Outside.assign(n, 0);
+    out.Reset(n, this->Components, DIM, gradient);
     if (!this->CompleteBuild)
     {
       return;
@@ -269,7 +272,7 @@ public:
             continue;
           }
           const ClosestPointResult<DIM> hit = this->Shape->ClosestPoint(x);
-          if (this->Shape->Side(x, hit) * this->Orientation > 0)
+          if (OutsideClosedMesh<DIM>(*this->Shape, this->Orientation, x, hit))
           {
             out.Outside[i] = 1;
             continue;
@@ -333,39 +336,26 @@ private:
   {
     const std::vector<Vec<DIM>>& v = this->Shape->MeshVertices();
     const auto& primitives = this->Shape->MeshPrimitives();
+    this->Orientation = OutwardOrientation<DIM>(*this->Shape);
     this->Order = detail::MortonOrder<DIM>(v, primitives, this->Shape->BoundsMin(), this->Shape->BoundsMax());
     this->CumulativeArea.resize(primitives.size());
     double total = 0.0;
-    double signedMeasure = 0.0; // volume (3D) or area (2D) enclosed, signed
     for (std::size_t o = 0; o < primitives.size(); ++o)
     {
-      const std::size_t p = this->Order[o];
-      const auto& ids = primitives[p];
+      const auto& ids = primitives[this->Order[o]];
       if constexpr (DIM == 3)
       {
         const Vec<3>& a = v[static_cast<std::size_t>(ids[0])];
-        const Vec<3>& b = v[static_cast<std::size_t>(ids[1])];
-        const Vec<3>& c = v[static_cast<std::size_t>(ids[2])];
-        total += 0.5 * (b - a).cross(c - a).norm();
-        signedMeasure += a.dot(b.cross(c)) / 6.0;
+        total += 0.5 *
+          (v[static_cast<std::size_t>(ids[1])] - a).cross(v[static_cast<std::size_t>(ids[2])] - a).norm();
       }
       else
       {
-        const Vec<2>& a = v[static_cast<std::size_t>(ids[0])];
-        const Vec<2>& b = v[static_cast<std::size_t>(ids[1])];
-        total += (b - a).norm();
-        signedMeasure += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+        total += (v[static_cast<std::size_t>(ids[1])] - v[static_cast<std::size_t>(ids[0])]).norm();
       }
       this->CumulativeArea[o] = total;
     }
-    if (!(total > 0.0) || !(std::abs(signedMeasure) > 0.0))
-    {
-      throw std::invalid_argument("the boundary cache needs a closed mesh enclosing a volume");
-    }
     this->Area = total;
-    // 3D: right-handed triangles of a positive volume face outward; 2D: the
-    // left normal of a counter-clockwise loop faces inward.
-    this->Orientation = (DIM == 3) == (signedMeasure > 0.0) ? 1 : -1;
   }
 
   // Two points uniform over each of the M/2 strata of equal area, each
@@ -592,7 +582,7 @@ private:
       }
       this->VolumeSamples[j] = y;
       const ClosestPointResult<DIM> hit = boundary.ClosestPoint(y);
-      if (boundary.Side(y, hit) * this->Orientation > 0 || hit.distance <= 0.0)
+      if (OutsideClosedMesh<DIM>(boundary, this->Orientation, y, hit) || hit.distance <= 0.0)
       {
         continue; // outside Ω: no source
       }

@@ -1,12 +1,13 @@
-"""The Boundary Cache estimator in the filters: the cache answers the points
-clear of the boundary's shell (FromBoundaryCache 1, no walks of their own),
-walks answer the shell, and the answers agree with the exact solution
-within their error bars. The cache lives with the problem: a moved probe
-reuses it with no new walks (field data CacheWalksRun 0) and gets the
-numbers a fresh solver gives there; more walks per cache point run only
-the missing ones; a new seed or new boundary values build a new cache. A
-target standard error grows the cache's walks. What the cache cannot
-answer is refused in words."""
+"""The cache estimators in the filters (Boundary Cache, Sphere Cache): the
+cache answers the points clear of the boundary's shell (FromBoundaryCache
+1, no walks of their own), walks answer the shell, and the answers agree
+with the exact solution within their error bars. The cache lives with the
+problem: a moved probe reuses it (the boundary cache with no new walks,
+field data CacheWalksRun 0; the sphere cache with walks only for spheres it
+has not made yet) and gets the numbers a fresh solver gives there; more
+walks per boundary cache point run only the missing ones; a new seed or new
+boundary values build a new cache. A target standard error grows the
+cache's walks. What a cache cannot answer is refused in words."""
 import math
 import os
 import sys
@@ -21,7 +22,10 @@ from gridfree_testing import (  # noqa: E402
     MessageCatcher, point_cloud, sphere_boundary)
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+import pytest  # noqa: E402
+
 CACHE = gridfree.vtkWalkOnSpheresAlgorithm.BOUNDARY_CACHE
+SPHERES = gridfree.vtkWalkOnSpheresAlgorithm.SPHERE_CACHE
 
 
 def harmonic(x, y, z):
@@ -47,14 +51,15 @@ def move(source, z):
     source.SetPoint2(-0.8, 0.8, z)
 
 
-def cache_solver(boundary, probe, **settings):
+def cache_solver(boundary, probe, estimator=CACHE, **settings):
     solver = gridfree.vtkWalkOnSpheresSolver()
     solver.SetBoundaryData(boundary)
     solver.SetProbeConnection(probe.GetOutputPort())
     solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
-    solver.SetEstimator(CACHE)
+    solver.SetEstimator(estimator)
     solver.SetCachePoints(1024)
     solver.SetWalksPerCachePoint(32)
+    solver.SetCacheShellDistance(0.05)
     solver.SetWalksPerPoint(64)
     solver.SetComputeGradient(True)
     for name, value in settings.items():
@@ -75,10 +80,11 @@ def arrays_of(output):
             for k in range(pd.GetNumberOfArrays())}
 
 
-def test_cache_answers_agree_with_the_exact_solution():
+@pytest.mark.parametrize("estimator", [CACHE, SPHERES])
+def test_cache_answers_agree_with_the_exact_solution(estimator):
     boundary = sphere_boundary(harmonic, resolution=48)
     probe = plane(0.1)
-    solver = cache_solver(boundary, probe)
+    solver = cache_solver(boundary, probe, estimator)
     solver.Update()
     out = solver.GetOutput()
     pd = out.GetPointData()
@@ -105,12 +111,20 @@ def test_cache_answers_agree_with_the_exact_solution():
         else:
             shell += 1
             assert walks.GetValue(i) == 64
-    assert answered > 30 and shell > 0 and outside > 0
+    assert answered > 30 and outside > 0
+    # (The boundary cache leaves a shell of points to walks; the sphere cache
+    # may answer those too where a lattice node lies close by.)
+    assert shell > 0 or estimator == SPHERES
     assert field(out, "PointsFromCache") == answered
     assert field(out, "PointsWalkedInShell") == shell
     assert field(out, "OutsidePoints") == outside
-    assert field(out, "CachePoints") == 1024
-    assert field(out, "CacheWalksRun") == 1024 * 32
+    if estimator == CACHE:
+        assert field(out, "CachePoints") == 1024
+        assert field(out, "CacheWalksRun") == 1024 * 32
+    else:
+        spheres = field(out, "CacheSpheres")
+        assert 0 < spheres <= answered
+        assert field(out, "CacheWalksRun") == spheres * 128 == field(out, "CacheWalks")
 
 
 def test_a_moved_probe_reuses_the_cache_with_the_numbers_of_a_fresh_solve():
@@ -166,6 +180,29 @@ def test_a_target_grows_the_cache():
     for i in range(out.GetNumberOfPoints()):
         if from_cache.GetValue(i):
             assert variance.GetValue(i) <= target * target
+
+
+def test_a_moved_probe_reuses_the_spheres_it_meets_again():
+    boundary = sphere_boundary(harmonic, resolution=48)
+    probe = plane(0.0, resolution=5)
+    solver = cache_solver(boundary, probe, SPHERES, WalksPerSphere=64)
+    solver.Update()
+    first = field(solver.GetOutput(), "CacheWalksRun")
+    assert first > 0
+    solver.Modified()
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") == 0
+    # A slightly moved slice meets the big spheres again: fewer walks.
+    move(probe, 0.05)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalksRun") < first
+    fresh = cache_solver(boundary, plane(0.05, resolution=5), SPHERES, WalksPerSphere=64)
+    fresh.Update()
+    assert arrays_of(solver.GetOutput()) == arrays_of(fresh.GetOutput())
+    # Other walks per sphere or another seed: a new cache.
+    solver.SetWalksPerSphere(32)
+    solver.Update()
+    assert field(solver.GetOutput(), "CacheWalks") == field(solver.GetOutput(), "CacheSpheres") * 32
 
 
 def test_what_the_cache_cannot_answer_is_refused_in_words():

@@ -1,11 +1,12 @@
 """Benchmark (not part of the tests): the CT workflow's slice
 (Documentation/Examples/ct_workflow.py: Poisson with the CT volume as source,
 gradient on) to a target standard error at every point inside the head,
-with the Boundary Cache estimator against pointwise walks, on a first slice
-and on slices moved 5 mm apart. Prints a table.
+with a cache estimator (Sphere Cache by default, or Boundary Cache) against
+pointwise walks, on a first slice and on slices moved 5 mm apart. Prints a
+table.
 
-    pvbatch ct_boundary_cache.py [--target 0.5] [--slices 10] [--pointwise-slices 2]
-                                 [--cache-points 4096] [--cache-walks 64]
+    pvbatch ct_cache.py [--estimator sphere|boundary] [--target 0.5] [--slices 10]
+                        [--pointwise-slices 2] [--walks-per-sphere 256] [--shell 0.02]
 
 Standard errors are sqrt(T_Variance) over the slice points inside the head
 (CT value of tissue), in degrees; seconds are wall-clock seconds of the
@@ -28,6 +29,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "..", "Documentation", "Examples"))
 import ct_workflow  # noqa: E402
 
 parser = argparse.ArgumentParser()
+parser.add_argument("--estimator", choices=("sphere", "boundary"), default="sphere")
 parser.add_argument("--target", type=float, default=0.5)
 parser.add_argument("--slices", type=int, default=10, help="moved slices after the first")
 parser.add_argument("--pointwise-slices", type=int, default=2,
@@ -36,7 +38,9 @@ parser.add_argument("--cache-points", type=int, default=4096)
 parser.add_argument("--cache-walks", type=int, default=64)
 parser.add_argument("--cache-volume-points", type=int, default=8192)
 parser.add_argument("--offset", type=float, default=0.01)
-parser.add_argument("--shell", type=float, default=0.05)
+parser.add_argument("--shell", type=float, default=0.02)
+parser.add_argument("--walks-per-sphere", type=int, default=256)
+parser.add_argument("--source-samples", type=int, default=256)
 parser.add_argument("--most", type=int, default=4096, help="the most walks per point")
 parser.add_argument("--step", type=float, default=5.0, help="slice spacing (mm)")
 args = parser.parse_args()
@@ -58,7 +62,9 @@ pointwise.KeepRunningSums = 0
 pointwise.WalksPerPoint = args.most
 pointwise.TargetStandardError = args.target
 
-solver.Estimator = "Boundary Cache"
+solver.Estimator = "Sphere Cache" if args.estimator == "sphere" else "Boundary Cache"
+solver.WalksPerSphere = args.walks_per_sphere
+solver.CacheSourceSamples = args.source_samples
 solver.CachePoints = args.cache_points
 solver.WalksPerCachePoint = args.cache_walks
 solver.CacheVolumePoints = args.cache_volume_points
@@ -92,15 +98,20 @@ def timed_update(proxy):
 
 # The boundary's hierarchy first, for both (with a cheap setting).
 z0 = p["slice"].SliceType.Origin[2]
-print("CT slice, target %.2f degrees at every point inside the head; cache %d points x %d "
-      "walks (%d volume points), offset %.3g, shell %.3g" % (
-          args.target, args.cache_points, args.cache_walks, args.cache_volume_points,
-          args.offset, args.shell))
+if args.estimator == "sphere":
+    print("CT slice, target %.2f degrees at every point inside the head; sphere cache, %d walks "
+          "per sphere, %d source samples per point, shell %.3g" % (
+              args.target, args.walks_per_sphere, args.source_samples, args.shell))
+else:
+    print("CT slice, target %.2f degrees at every point inside the head; boundary cache, %d "
+          "points x %d walks (%d volume points), offset %.3g, shell %.3g" % (
+              args.target, args.cache_points, args.cache_walks, args.cache_volume_points,
+              args.offset, args.shell))
 print()
-print("| slice | z (mm) | estimator | seconds | points inside | from cache | cache walks run "
-      "| walks per cache point | max std. error | points above target | mean z² (cache vs "
+print("| slice | z (mm) | estimator | seconds | cache seconds | shell walks | points inside | from cache | cache walks run "
+      "| cache size | max std. error | points above target | mean z² (cache vs "
       "pointwise) |")
-print("|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+print("|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 cache_seconds = []
 for k in range(args.slices + 1):
     z = z0 + k * args.step
@@ -124,12 +135,15 @@ for k in range(args.slices + 1):
         z2 = "%.2f (%d points; mean difference %.3f)" % (
             sum(scores) / max(len(scores), 1), len(scores),
             sum(differences) / max(len(differences), 1))
-        print("| %d | %.1f | pointwise | %.2f | %d | | | | %.3f | %d | |" % (
+        print("| %d | %.1f | pointwise | %.2f | | | %d | | | | %.3f | %d | |" % (
             k, z, pw_seconds, len(pw_rows), max(pw_errors),
             sum(1 for e in pw_errors if e > args.target)))
-    print("| %d | %.1f | boundary cache | %.2f | %d | %d | %d | %d | %.3f | %d | %s |" % (
-        k, z, seconds, len(rows), sum(1 for r in rows.values() if r[2]),
-        field("CacheWalksRun"), field("WalksPerCachePoint"), max(errors), above, z2))
+    print("| %d | %.1f | %s cache | %.2f | %.2f | %d | %d | %d | %d | %d | %.3f | %d | %s |" % (
+        k, z, args.estimator, seconds, field("CacheSeconds"),
+        field("WalksRun"), len(rows), sum(1 for r in rows.values() if r[2]),
+        field("CacheWalksRun"),
+        field("CacheSpheres") if args.estimator == "sphere" else field("CachePoints"),
+        max(errors), above, z2))
 if len(cache_seconds) > 1:
     print()
     print("first slice %.2f s; moved slices: mean %.2f s, most %.2f s" % (

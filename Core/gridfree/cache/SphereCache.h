@@ -1,0 +1,823 @@
+// A solution cache on spheres inside the domain, shared by every probe
+// point: walks start from sample points on a sphere ∂B(c, R) that lies in
+// Ω, once, and every point x of the sphere's inner part |x − c| ≤ ρR is
+// answered from them by Poisson's integral formula, with no walks of its
+// own. For Δu = f (Laplace: f = 0; WalkOnSpheres.h's convention),
+//
+//   u(x) = ∫_∂B P(x, s) u(s) ds − ∫_B G_B(x, y) f(y) dy,
+//
+// P the ball's Poisson kernel, G_B its Green's function of −Δ (zero on
+// ∂B), and ∇u(x) the same with ∇ₓP and ∇ₓG_B. Both kernels are bounded
+// for |x − c| ≤ ρR < R, so the sphere's N samples s_i (uniform on ∂B, one
+// walk each for û(s_i)) answer with the variance of N/few walks every point
+// of the inner ball at once: u(x) ≈ mean of
+//
+//   t_i = û_i + (w_i − 1)(û_i − ū₋ᵢ),   w_i = |∂B| P(x, s_i),
+//
+// (∫ P = 1, so the w_i − 1 terms have mean zero: with ū₋ᵢ, the mean of the
+// other samples, independent of sample i, they are an exact control
+// variate that removes the spread the kernel's variation would otherwise
+// give the mean value), and ∇u(x) ≈ mean of ∇ₓw_i (û_i − ū₋ᵢ). The
+// variance of each mean is the sample variance over N: calibrated per
+// point. Points of one sphere share its walks, so their errors are
+// correlated (a smooth patch); points of different spheres are
+// independent.
+//
+// The source term is integrated per point, from x: y = x + tω, ω
+// stratified over directions (two per stratum), t uniform up to ∂B (the
+// samples' weights |S| t^{DIM−1} T G_B and |S| t^{DIM−1} T ∇G_B stay
+// bounded), with f(x) as a control variate: ∫_B G_B(x, y) dy =
+// (R² − |x − c|²)/(2·DIM) exactly.
+//
+// Which sphere answers x is a function of x alone: lattices of spacing
+// h₀/2^ℓ over the boundary's box, ℓ = 0, 1, ..., L; at each level, from the
+// coarsest, the lattice node c nearest x, inside Ω, with R = d(c) (the
+// largest ball about c in Ω); the first whose inner ball holds x answers
+// it. A sphere's samples depend only on its level and node (and the seed),
+// so the same point gets the same answer whatever other points were asked
+// before, on any number of threads. Spheres are made when a point first
+// needs them and kept: a moved probe reuses those it meets again. Points
+// that no level answers lie within about ShellDistance of the boundary:
+// they are left to pointwise walks (InShell), which are cheap there.
+//
+// Laplace's and Poisson's equations (volume sources) with Dirichlet
+// conditions on a closed mesh, in 2D and 3D.
+#ifndef GRIDFREE_CACHE_SPHERE_CACHE_H
+#define GRIDFREE_CACHE_SPHERE_CACHE_H
+
+#include <gridfree/cache/BoundaryValueCache.h>
+#include <gridfree/cache/CacheProblemChecks.h>
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/problem/Problem.h>
+#include <gridfree/sampling/Random.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <unordered_map>
+#include <vector>
+
+namespace gridfree
+{
+struct SphereCacheSettings
+{
+  // Walks per sphere (one from each of as many points on it) when a sphere
+  // is made; a target doubles them where needed.
+  int SamplesPerSphere = 256;
+  // Points within Reach·R of a sphere's centre are answered by it (the
+  // kernels' spread grows as this nears 1).
+  double Reach = 0.6;
+  // The depth (a fraction of the boundary's bounding-box diagonal) beyond
+  // which every point inside is answered: it sets the finest lattice.
+  double ShellDistance = 0.02;
+  // Samples of the source's ball integral per point (two per stratum).
+  int SourceSamples = 256;
+  std::uint64_t Seed = 0;
+  int Threads = 0; // 0: all
+};
+
+template <int DIM>
+class SphereCache
+{
+public:
+  // Checks the problem and prepares the lattices; no walks yet. Throws
+  // std::invalid_argument for what it cannot answer.
+  SphereCache(const Problem<DIM>& problem, const SphereCacheSettings& settings)
+    : Shape(problem.SharedBoundary())
+    , Settings(settings)
+  {
+    const Equation equation = problem.Settings().Problem;
+    if (equation != Equation::Laplace && equation != Equation::Poisson)
+    {
+      throw std::invalid_argument(
+        "the sphere cache answers Laplace's and Poisson's equation only (yet)");
+    }
+    RequireDirichletWithVolumeSources<DIM>(problem, "the sphere cache");
+    const SourceSet<DIM>* sources = problem.GetSources();
+    if (settings.SamplesPerSphere < 4 || !(settings.Reach > 0.0 && settings.Reach < 1.0) ||
+      !(settings.ShellDistance > 0.0))
+    {
+      throw std::invalid_argument(
+        "the sphere cache needs at least 4 samples per sphere, a reach in (0, 1) and a "
+        "positive shell distance");
+    }
+    this->Orientation = OutwardOrientation<DIM>(*this->Shape);
+    this->Components = this->Shape->Components();
+    if (equation == Equation::Poisson && sources && sources->MakeVolume)
+    {
+      this->MakeSource = sources->MakeVolume;
+    }
+    // Lattice spacings: the coarsest a quarter of the diagonal, halving
+    // until a point ShellDistance deep always finds a sphere (its nearest
+    // node is at most h√DIM/2 away, and needs R ≥ that / Reach).
+    const double diagonal = this->Shape->Diagonal();
+    this->Origin = this->Shape->BoundsMin();
+    this->Coarsest = 0.25 * diagonal;
+    const double finest = settings.ShellDistance * diagonal /
+      ((1.0 + 1.0 / settings.Reach) * 0.5 * std::sqrt(static_cast<double>(DIM)));
+    this->Levels = 1;
+    while (this->Coarsest / static_cast<double>(1 << (this->Levels - 1)) > finest &&
+      this->Levels < 20)
+    {
+      ++this->Levels;
+    }
+  }
+
+  // Answers every point (the first DIM of its coordinates): makes the
+  // spheres it needs (one batch of walks), and, with a positive
+  // `targetVariance`, doubles the samples of the spheres of points above it,
+  // up to `mostSamples` per sphere. False when aborted (the spheres made
+  // stay, the answers are NaN).
+  bool Answer(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& at,
+    bool gradient, CacheEvaluation& out, double targetVariance = 0.0, int mostSamples = 0,
+    const BatchProgressCallback& progress = BatchProgressCallback())
+  {
+    const std::size_t n = at.size();
+    this->WalksRun = 0;
+    out.Reset(n, this->Components, DIM, gradient);
+    // Which spheres answer each point (a function of the point alone).
+    std::vector<Cover> covers = this->AssignAll(at, out);
+    // The spheres not made yet, in key order.
+    std::vector<std::uint64_t> missing;
+    for (const Cover& cover : covers)
+    {
+      for (int k = 0; k < cover.Count; ++k)
+      {
+        if (this->Index.find(cover.Keys[static_cast<std::size_t>(k)]) == this->Index.end())
+        {
+          missing.push_back(cover.Keys[static_cast<std::size_t>(k)]);
+        }
+      }
+    }
+    std::sort(missing.begin(), missing.end());
+    missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+    for (std::uint64_t key : missing)
+    {
+      this->Index.emplace(key, this->Spheres.size());
+      this->Spheres.push_back(this->MakeSphere(key));
+    }
+    for (Cover& cover : covers)
+    {
+      for (int k = 0; k < cover.Count; ++k)
+      {
+        cover.Spheres[static_cast<std::size_t>(k)] =
+          this->Index.at(cover.Keys[static_cast<std::size_t>(k)]);
+      }
+    }
+    // The spheres needed with fewer samples than a sphere starts with (new
+    // ones, and those an aborted answer left short), in one batch.
+    std::vector<int> wanted(this->Spheres.size(), 0);
+    for (const Cover& cover : covers)
+    {
+      for (int k = 0; k < cover.Count; ++k)
+      {
+        const std::size_t s = cover.Spheres[static_cast<std::size_t>(k)];
+        wanted[s] = std::max(this->Spheres[s].Samples, this->Settings.SamplesPerSphere);
+      }
+    }
+    if (!this->Sample(problem, wanted, progress))
+    {
+      return false;
+    }
+    std::vector<unsigned char> todo(n, 1);
+    while (true)
+    {
+      if (!this->EvaluatePoints(at, covers, todo, gradient, out))
+      {
+        return false;
+      }
+      if (!(targetVariance > 0.0))
+      {
+        return true;
+      }
+      // The sphere of a point above the target doubles (up to
+      // mostSamples). (Growing in one step to the samples its variance asks
+      // for, with 20% to spare, ran 10–20% more walks on the CT
+      // benchmark's slices.)
+      std::fill(wanted.begin(), wanted.end(), 0);
+      bool growing = false;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        bool above = false;
+        for (int c = 0; c < this->Components && covers[i].Count > 0; ++c)
+        {
+          above = above || !(out.ValueVariance[i * this->Components + c] <= targetVariance);
+        }
+        for (int k = 0; above && k < covers[i].Count; ++k)
+        {
+          const std::size_t s = covers[i].Spheres[static_cast<std::size_t>(k)];
+          const int more = std::min(2 * this->Spheres[s].Samples, mostSamples);
+          if (more > this->Spheres[s].Samples)
+          {
+            wanted[s] = more;
+            growing = true;
+          }
+        }
+      }
+      if (!growing)
+      {
+        return true;
+      }
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        todo[i] = 0;
+        for (int k = 0; k < covers[i].Count; ++k)
+        {
+          todo[i] |= wanted[covers[i].Spheres[static_cast<std::size_t>(k)]] > 0 ? 1 : 0;
+        }
+      }
+      if (!this->Sample(problem, wanted, progress))
+      {
+        return false;
+      }
+    }
+  }
+
+  std::size_t SphereCount() const { return this->Spheres.size(); }
+  // Walks run by the last Answer (0: every sphere it needed was there).
+  std::uint64_t Walks() const { return this->WalksRun; }
+  // Walks held by every sphere.
+  std::uint64_t TotalWalks() const
+  {
+    std::uint64_t total = 0;
+    for (const SphereData& s : this->Spheres)
+    {
+      total += static_cast<std::uint64_t>(s.Samples);
+    }
+    return total;
+  }
+  int LatticeLevels() const { return this->Levels; }
+
+private:
+  static constexpr std::uint64_t kNone = ~std::uint64_t(0);
+
+  // The spheres that answer a point (one, or none); several would be
+  // blended (EvaluatePoint), but each costs its walks: one was cheaper at
+  // equal error in the CT benchmark.
+  struct Cover
+  {
+    std::array<std::uint64_t, 1> Keys;
+    std::array<std::size_t, 1> Spheres;
+    int Count = 0;
+  };
+
+  struct SphereData
+  {
+    std::uint64_t Key = 0;
+    Vec<DIM> Centre;
+    double Radius = 0.0;
+    int Samples = 0;
+    std::vector<Vec<DIM>> Points;  // on the sphere
+    std::vector<double> Values;    // Samples × components: one walk each
+  };
+
+  // The key of a lattice node: level, then the node's indices.
+  static std::uint64_t KeyOf(int level, const std::array<std::int64_t, DIM>& node)
+  {
+    const int bits = DIM == 3 ? 19 : 29;
+    std::uint64_t key = static_cast<std::uint64_t>(level);
+    for (int a = 0; a < DIM; ++a)
+    {
+      key = (key << bits) | (static_cast<std::uint64_t>(node[static_cast<std::size_t>(a)]) &
+                              ((1ULL << bits) - 1));
+    }
+    return key;
+  }
+
+  Vec<DIM> NodePoint(int level, const std::array<std::int64_t, DIM>& node) const
+  {
+    const double h = this->Coarsest / static_cast<double>(1 << level);
+    Vec<DIM> c;
+    for (int a = 0; a < DIM; ++a)
+    {
+      c[a] = this->Origin[a] + h * static_cast<double>(node[static_cast<std::size_t>(a)]);
+    }
+    return c;
+  }
+
+  // The lattice node `corner` (bits: +1 along each axis) of the cell of
+  // `level` that holds x.
+  std::array<std::int64_t, DIM> CornerNode(const Vec<DIM>& x, int level, int corner) const
+  {
+    const double h = this->Coarsest / static_cast<double>(1 << level);
+    std::array<std::int64_t, DIM> node;
+    for (int a = 0; a < DIM; ++a)
+    {
+      node[static_cast<std::size_t>(a)] =
+        static_cast<std::int64_t>(std::floor((x[a] - this->Origin[a]) / h)) + ((corner >> a) & 1);
+    }
+    return node;
+  }
+
+  // The sphere that answers each point (none: Outside or InShell set): at
+  // the coarsest level where any does, the corner of the point's lattice
+  // cell whose sphere holds it best (the smallest |x − c|/R below Reach;
+  // then the smallest key). The nodes' radii (the distance to the boundary,
+  // −1 outside) are kept: points of a slice share most nodes, and moved
+  // slices meet them again.
+  std::vector<Cover> AssignAll(const std::vector<std::array<double, 3>>& at, CacheEvaluation& out)
+  {
+    const std::size_t n = at.size();
+    std::vector<Cover> covers(n);
+    std::vector<Vec<DIM>> x(n);
+    std::vector<unsigned char> pending(n, 0);
+    ParallelForWithProgress(
+      n, this->Settings.Threads,
+      [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          bool finite = true;
+          for (int k = 0; k < DIM; ++k)
+          {
+            x[i][k] = at[i][static_cast<std::size_t>(k)];
+            finite = finite && std::isfinite(x[i][k]);
+          }
+          if (!finite)
+          {
+            continue;
+          }
+          const ClosestPointResult<DIM> own = this->Shape->ClosestPoint(x[i]);
+          out.Outside[i] = OutsideClosedMesh<DIM>(*this->Shape, this->Orientation, x[i], own);
+          pending[i] = !out.Outside[i];
+        }
+      },
+      [](double) { return true; }, 0.1, 64);
+    for (int level = 0; level < this->Levels; ++level)
+    {
+      // The radii of the nodes this level needs that are not known yet.
+      std::vector<std::uint64_t> unknown;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        for (int corner = 0; pending[i] && corner < (1 << DIM); ++corner)
+        {
+          const std::uint64_t key = KeyOf(level, this->CornerNode(x[i], level, corner));
+          if (this->NodeRadius.find(key) == this->NodeRadius.end())
+          {
+            unknown.push_back(key);
+          }
+        }
+      }
+      std::sort(unknown.begin(), unknown.end());
+      unknown.erase(std::unique(unknown.begin(), unknown.end()), unknown.end());
+      std::vector<double> radii(unknown.size());
+      ParallelForWithProgress(
+        unknown.size(), this->Settings.Threads,
+        [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+          for (std::size_t k = begin; k < end; ++k)
+          {
+            const Vec<DIM> c = this->CentreOf(unknown[k]);
+            const ClosestPointResult<DIM> hit = this->Shape->ClosestPoint(c);
+            radii[k] = hit.distance > 0.0 &&
+                !OutsideClosedMesh<DIM>(*this->Shape, this->Orientation, c, hit)
+              ? hit.distance
+              : -1.0;
+          }
+        },
+        [](double) { return true; }, 0.1, 64);
+      for (std::size_t k = 0; k < unknown.size(); ++k)
+      {
+        this->NodeRadius.emplace(unknown[k], radii[k]);
+      }
+      // Each pending point's best corner at this level.
+      ParallelForWithProgress(
+        n, this->Settings.Threads,
+        [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+          for (std::size_t i = begin; i < end; ++i)
+          {
+            double best = this->Settings.Reach;
+            for (int corner = 0; pending[i] && corner < (1 << DIM); ++corner)
+            {
+              const std::array<std::int64_t, DIM> node = this->CornerNode(x[i], level, corner);
+              const std::uint64_t key = KeyOf(level, node);
+              const double radius = this->NodeRadius.at(key);
+              if (!(radius > 0.0))
+              {
+                continue;
+              }
+              const double ratio = (x[i] - this->NodePoint(level, node)).norm() / radius;
+              if (ratio < best || (ratio == best && covers[i].Count == 1 && key < covers[i].Keys[0]))
+              {
+                best = ratio;
+                covers[i].Keys[0] = key;
+                covers[i].Count = 1;
+              }
+            }
+          }
+        },
+        [](double) { return true; }, 0.1, 64);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        pending[i] = pending[i] && covers[i].Count == 0;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      out.InShell[i] = pending[i];
+    }
+    return covers;
+  }
+
+  // The centre of the node a key names.
+  Vec<DIM> CentreOf(std::uint64_t key) const
+  {
+    const int bits = DIM == 3 ? 19 : 29;
+    std::array<std::int64_t, DIM> node;
+    std::uint64_t rest = key;
+    for (int a = DIM - 1; a >= 0; --a)
+    {
+      std::uint64_t index = rest & ((1ULL << bits) - 1);
+      // Sign-extend (nodes below the box's corner are negative).
+      if (index & (1ULL << (bits - 1)))
+      {
+        index |= ~((1ULL << bits) - 1);
+      }
+      node[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(index);
+      rest >>= bits;
+    }
+    return this->NodePoint(static_cast<int>(rest), node);
+  }
+
+  // A sphere about a node whose radius AssignAll found.
+  SphereData MakeSphere(std::uint64_t key) const
+  {
+    SphereData s;
+    s.Key = key;
+    s.Centre = this->CentreOf(key);
+    s.Radius = this->NodeRadius.at(key);
+    return s;
+  }
+
+  // Brings each sphere s to wanted[s] samples (0: leave it): the new points
+  // on each sphere (from the sphere's own stream), one walk from each, one
+  // batch. An abort leaves every sphere as it was.
+  bool Sample(const Problem<DIM>& problem, const std::vector<int>& wanted,
+    const BatchProgressCallback& progress)
+  {
+    std::vector<std::array<double, 3>> points;
+    std::vector<std::pair<std::size_t, int>> owner;
+    const std::uint64_t salt = MixBits(this->Settings.Seed ^ 0x3c6ef372fe94f82bULL);
+    for (std::size_t s = 0; s < wanted.size(); ++s)
+    {
+      const SphereData& sphere = this->Spheres[s];
+      for (int k = sphere.Samples; k < wanted[s]; ++k)
+      {
+        RandomStream random(HashCombine(salt, sphere.Key), static_cast<std::uint64_t>(k));
+        const Vec<DIM> y = sphere.Centre + sphere.Radius * SampleUnitSphere<DIM>(random);
+        std::array<double, 3> xyz = { 0.0, 0.0, 0.0 };
+        for (int a = 0; a < DIM; ++a)
+        {
+          xyz[static_cast<std::size_t>(a)] = y[a];
+        }
+        points.push_back(xyz);
+        owner.emplace_back(s, k);
+      }
+    }
+    if (points.empty())
+    {
+      return true;
+    }
+    BatchRequest request;
+    request.WalksPerPoint = 1;
+    request.Seed = this->Settings.Seed;
+    request.Threads = this->Settings.Threads;
+    const BatchEstimates walked = problem.EstimateAll(points, request, progress);
+    if (!walked.Summary.Completed)
+    {
+      return false;
+    }
+    this->WalksRun += walked.Summary.WalksRun;
+    const int nc = this->Components;
+    for (std::size_t s = 0; s < wanted.size(); ++s)
+    {
+      if (wanted[s] > this->Spheres[s].Samples)
+      {
+        this->Spheres[s].Points.resize(static_cast<std::size_t>(wanted[s]));
+        this->Spheres[s].Values.resize(static_cast<std::size_t>(wanted[s] * nc));
+      }
+    }
+    for (std::size_t j = 0; j < points.size(); ++j)
+    {
+      SphereData& sphere = this->Spheres[owner[j].first];
+      const auto k = static_cast<std::size_t>(owner[j].second);
+      for (int a = 0; a < DIM; ++a)
+      {
+        sphere.Points[k][a] = points[j][static_cast<std::size_t>(a)];
+      }
+      for (int c = 0; c < nc; ++c)
+      {
+        sphere.Values[k * nc + c] = walked.Value(j, c);
+      }
+    }
+    for (std::size_t s = 0; s < wanted.size(); ++s)
+    {
+      this->Spheres[s].Samples = std::max(this->Spheres[s].Samples, wanted[s]);
+    }
+    return true;
+  }
+
+  // The answers at the points marked in `todo`.
+  bool EvaluatePoints(const std::vector<std::array<double, 3>>& at,
+    const std::vector<Cover>& covers, const std::vector<unsigned char>& todo, bool gradient,
+    CacheEvaluation& out) const
+  {
+    return ParallelForWithProgress(
+      at.size(), this->Settings.Threads,
+      [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+        std::unique_ptr<VolumeSource<DIM>> source =
+          this->MakeSource ? this->MakeSource(this->Shape->Diagonal()) : nullptr;
+        SphereEstimate one(this->Components), blend(this->Components);
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          if (todo[i] && covers[i].Count > 0)
+          {
+            this->EvaluatePoint(at[i], covers[i], gradient, source.get(), one, blend);
+            blend.WriteTo(out, i, gradient);
+          }
+        }
+      },
+      [](double) { return true; }, 0.1, 16);
+  }
+
+  // One sphere's answer at a point, or several blended: value and
+  // gradient per component with the variances of their means.
+  struct SphereEstimate
+  {
+    explicit SphereEstimate(int nc)
+      : Value(static_cast<std::size_t>(nc))
+      , ValueVariance(static_cast<std::size_t>(nc))
+      , Gradient(static_cast<std::size_t>(nc * DIM))
+      , GradientVariance(static_cast<std::size_t>(nc * DIM))
+    {
+    }
+    std::vector<double> Value, ValueVariance, Gradient, GradientVariance;
+
+    void Clear()
+    {
+      for (std::vector<double>* v : { &Value, &ValueVariance, &Gradient, &GradientVariance })
+      {
+        std::fill(v->begin(), v->end(), 0.0);
+      }
+    }
+    // Adds a·other (independent of what is there: variances add as a²).
+    void Add(double a, const SphereEstimate& other)
+    {
+      for (std::size_t k = 0; k < Value.size(); ++k)
+      {
+        Value[k] += a * other.Value[k];
+        ValueVariance[k] += a * a * other.ValueVariance[k];
+      }
+      for (std::size_t k = 0; k < Gradient.size(); ++k)
+      {
+        Gradient[k] += a * other.Gradient[k];
+        GradientVariance[k] += a * a * other.GradientVariance[k];
+      }
+    }
+    void WriteTo(CacheEvaluation& out, std::size_t i, bool gradient) const
+    {
+      std::copy(Value.begin(), Value.end(), out.Value.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
+      std::copy(ValueVariance.begin(), ValueVariance.end(),
+        out.ValueVariance.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
+      if (gradient)
+      {
+        std::copy(Gradient.begin(), Gradient.end(),
+          out.Gradient.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
+        std::copy(GradientVariance.begin(), GradientVariance.end(),
+          out.GradientVariance.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
+      }
+    }
+  };
+
+  // A point from its spheres, blended with weights (1 − (ρ/Reach)²)², ρ =
+  // |x − c|/R, normalised: each sphere's answer is unbiased and the spheres
+  // are independent, so the blend is too, with the weights' squares on the
+  // variances; a weight that falls to zero at the edge of a sphere's reach
+  // makes the answer change smoothly where a sphere joins or leaves.
+  void EvaluatePoint(const std::array<double, 3>& p, const Cover& cover, bool gradient,
+    VolumeSource<DIM>* source, SphereEstimate& one, SphereEstimate& blend) const
+  {
+    Vec<DIM> x;
+    for (int k = 0; k < DIM; ++k)
+    {
+      x[k] = p[static_cast<std::size_t>(k)];
+    }
+    std::array<double, 1> weights;
+    double total = 0.0;
+    for (int k = 0; k < cover.Count; ++k)
+    {
+      const SphereData& s = this->Spheres[cover.Spheres[static_cast<std::size_t>(k)]];
+      const double rho = (x - s.Centre).norm() / (this->Settings.Reach * s.Radius);
+      weights[static_cast<std::size_t>(k)] = (1.0 - rho * rho) * (1.0 - rho * rho);
+      total += weights[static_cast<std::size_t>(k)];
+    }
+    blend.Clear();
+    for (int k = 0; k < cover.Count; ++k)
+    {
+      const SphereData& s = this->Spheres[cover.Spheres[static_cast<std::size_t>(k)]];
+      this->EvaluateSphere(x, s, gradient, one);
+      if (source)
+      {
+        this->AddSourceIntegral(x, s, gradient, *source, one);
+      }
+      blend.Add(weights[static_cast<std::size_t>(k)] / total, one);
+    }
+  }
+
+  // One sphere's answer: the kernel-weighted samples with the
+  // leave-one-out control variate.
+  void EvaluateSphere(const Vec<DIM>& x, const SphereData& s, bool gradient, SphereEstimate& e) const
+  {
+    const int nc = this->Components;
+    const int m = s.Samples;
+    const double R = s.Radius;
+    const Vec<DIM> p = x - s.Centre;
+    const double r2 = p.squaredNorm();
+    for (int c = 0; c < nc; ++c)
+    {
+      double total = 0.0;
+      for (int k = 0; k < m; ++k)
+      {
+        total += s.Values[static_cast<std::size_t>(k * nc + c)];
+      }
+      double sum = 0.0, squares = 0.0;
+      Vec<DIM> gsum = Vec<DIM>::Zero(), gsquares = Vec<DIM>::Zero();
+      for (int k = 0; k < m; ++k)
+      {
+        const double u = s.Values[static_cast<std::size_t>(k * nc + c)];
+        const double others = (total - u) / static_cast<double>(m - 1);
+        const Vec<DIM> d = x - s.Points[static_cast<std::size_t>(k)];
+        const double d2 = d.squaredNorm();
+        // w = |∂B| P(x, s): 3D R(R² − r²)/|x − s|³, 2D (R² − r²)/|x − s|².
+        double w;
+        Vec<DIM> dw;
+        if constexpr (DIM == 3)
+        {
+          const double inv3 = 1.0 / (d2 * std::sqrt(d2));
+          w = R * (R * R - r2) * inv3;
+          dw = R * (-2.0 * inv3) * p - (3.0 * w / d2) * d;
+        }
+        else
+        {
+          w = (R * R - r2) / d2;
+          dw = (-2.0 / d2) * p - (2.0 * w / d2) * d;
+        }
+        const double t = u + (w - 1.0) * (u - others);
+        sum += t;
+        squares += t * t;
+        if (gradient)
+        {
+          const Vec<DIM> g = (u - others) * dw;
+          gsum += g;
+          gsquares += g.cwiseProduct(g);
+        }
+      }
+      const double mean = sum / m;
+      e.Value[static_cast<std::size_t>(c)] = mean;
+      e.ValueVariance[static_cast<std::size_t>(c)] =
+        std::max(0.0, (squares - m * mean * mean) / (static_cast<double>(m) * (m - 1)));
+      for (int a = 0; a < DIM; ++a)
+      {
+        const double gm = gradient ? gsum[a] / m : 0.0;
+        e.Gradient[static_cast<std::size_t>(c * DIM + a)] = gm;
+        e.GradientVariance[static_cast<std::size_t>(c * DIM + a)] = gradient
+          ? std::max(0.0, (gsquares[a] - m * gm * gm) / (static_cast<double>(m) * (m - 1)))
+          : 0.0;
+      }
+    }
+  }
+
+  // −∫_B G_B(x, y) f(y) dy (and its x-gradient): f(x) times the exact
+  // ∫ G_B = (R² − r²)/(2·DIM) (∫ ∇ₓG_B = −(x − c)/DIM), plus the
+  // stratified mean of the samples of G_B (f(y) − f(x)), each stratum's
+  // two draws giving its variance.
+  void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, bool gradient,
+    VolumeSource<DIM>& source, SphereEstimate& into) const
+  {
+    constexpr double kPi = 3.14159265358979323846;
+    const int nc = this->Components;
+    const double R = s.Radius;
+    const Vec<DIM> p = x - s.Centre;
+    const double r2 = p.squaredNorm();
+    const double r = std::sqrt(r2);
+    std::vector<double> fx(static_cast<std::size_t>(nc)), fy(static_cast<std::size_t>(nc));
+    source.Evaluate(x, fx.data());
+    // Strata of directions: a g × g grid of the square that maps to the
+    // sphere with equal area (3D), g intervals of the angle (2D).
+    const int half = std::max(1, this->Settings.SourceSamples / 2);
+    const int g = DIM == 3 ? std::max(1, static_cast<int>(std::lround(std::sqrt(half)))) : half;
+    const int strata = DIM == 3 ? g * g : g;
+    double pointCoordinates[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < DIM; ++k)
+    {
+      pointCoordinates[k] = x[k];
+    }
+    // The point's stream for this sphere (the spheres blended at a point
+    // have independent source samples).
+    const std::uint64_t key =
+      HashCombine(PointKey(this->Settings.Seed ^ 0x510e527fade682d1ULL, pointCoordinates), s.Key);
+    // Per component: sum and squares of the strata's means, value then gradient.
+    std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
+    std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
+    const double a = r / R; // the image point's scaling, |x − c|/R
+    const Vec<DIM> e = r > 0.0 ? Vec<DIM>(p / r) : Vec<DIM>::Unit(0);
+    for (int k = 0; k < strata; ++k)
+    {
+      for (int draw = 0; draw < 2; ++draw)
+      {
+        RandomStream random(key, static_cast<std::uint64_t>(2 * k + draw));
+        Vec<DIM> w;
+        if constexpr (DIM == 3)
+        {
+          const double u1 = (static_cast<double>(k % g) + random.NextDouble()) / g;
+          const double u2 = (static_cast<double>(k / g) + random.NextDouble()) / g;
+          const double z = 1.0 - 2.0 * u1;
+          const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+          w = Vec<3>(rho * std::cos(2.0 * kPi * u2), rho * std::sin(2.0 * kPi * u2), z);
+        }
+        else
+        {
+          const double angle = 2.0 * kPi * (static_cast<double>(k) + random.NextDouble()) / g;
+          w = Vec<2>(std::cos(angle), std::sin(angle));
+        }
+        // Distance from x to ∂B along ω, and the point y at a uniform
+        // fraction of it.
+        const double pw = p.dot(w);
+        const double T = -pw + std::sqrt(std::max(0.0, pw * pw + R * R - r2));
+        const double t = T * random.NextDouble();
+        const Vec<DIM> y = x + t * w;
+        source.Evaluate(y, fy.data());
+        const Vec<DIM> q = y - s.Centre;
+        const double b = q.norm() / R;
+        const Vec<DIM> image = a * q - R * e; // |image| = |x − c||y − x*|/R
+        const Vec<DIM> imageX = b * p - R * (q.norm() > 0.0 ? Vec<DIM>(q / q.norm()) : Vec<DIM>::Unit(0));
+        // G_B and ∇ₓG_B of −Δ in the ball; 1/pdf = |S| t^{DIM−1} T.
+        double G, inverse;
+        Vec<DIM> dG;
+        if constexpr (DIM == 3)
+        {
+          G = (1.0 / t - 1.0 / image.norm()) / (4.0 * kPi);
+          dG = (w / (t * t) + b * imageX / std::pow(imageX.norm(), 3)) / (4.0 * kPi);
+          inverse = 4.0 * kPi * t * t * T;
+        }
+        else
+        {
+          G = (std::log(image.norm()) - std::log(t)) / (2.0 * kPi);
+          dG = (w / t + b * imageX / imageX.squaredNorm()) / (2.0 * kPi);
+          inverse = 2.0 * kPi * t * T;
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          const double df = fy[static_cast<std::size_t>(c)] - fx[static_cast<std::size_t>(c)];
+          term[static_cast<std::size_t>(c)] = -G * inverse * df;
+          for (int d = 0; d < DIM && gradient; ++d)
+          {
+            term[static_cast<std::size_t>(nc + c * DIM + d)] = -dG[d] * inverse * df;
+          }
+        }
+        if (draw == 0)
+        {
+          first = term;
+        }
+      }
+      for (std::size_t v = 0; v < term.size(); ++v)
+      {
+        sum[v] += 0.5 * (first[v] + term[v]);
+        squares[v] += 0.25 * (first[v] - term[v]) * (first[v] - term[v]);
+      }
+    }
+    const double K = static_cast<double>(strata);
+    for (int c = 0; c < nc; ++c)
+    {
+      const double f = fx[static_cast<std::size_t>(c)];
+      into.Value[static_cast<std::size_t>(c)] +=
+        -f * (R * R - r2) / (2.0 * DIM) + sum[static_cast<std::size_t>(c)] / K;
+      into.ValueVariance[static_cast<std::size_t>(c)] += squares[static_cast<std::size_t>(c)] / (K * K);
+      for (int d = 0; d < DIM && gradient; ++d)
+      {
+        const std::size_t v = static_cast<std::size_t>(nc + c * DIM + d);
+        into.Gradient[static_cast<std::size_t>(c * DIM + d)] += f * p[d] / DIM + sum[v] / K;
+        into.GradientVariance[static_cast<std::size_t>(c * DIM + d)] += squares[v] / (K * K);
+      }
+    }
+  }
+
+  std::shared_ptr<const Boundary<DIM>> Shape;
+  SphereCacheSettings Settings;
+  std::function<std::unique_ptr<VolumeSource<DIM>>(double)> MakeSource;
+  int Orientation = 1;
+  int Components = 1;
+  Vec<DIM> Origin;
+  double Coarsest = 1.0;
+  int Levels = 1;
+  std::unordered_map<std::uint64_t, std::size_t> Index;
+  std::unordered_map<std::uint64_t, double> NodeRadius; // −1: outside
+  std::vector<SphereData> Spheres;
+  std::uint64_t WalksRun = 0;
+};
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,220 @@
+// Tests of gridfree/cache/SphereCache.h: points answered from the walks of
+// spheres inside the domain agree with the exact solution within their
+// error bars, calibrated over independent caches (points of one sphere
+// share it); a point gets the same answer whatever was asked before and on
+// any number of threads; a target grows the spheres; what the cache cannot
+// answer is refused.
+#include <gridfree/cache/SphereCache.h>
+#include "BlockShapes.h"
+#include "CacheChecks.h"
+#include "EstimatorChecks.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+
+namespace
+{
+// Poisson with a source that varies (the source integral's samples matter):
+// u = x³ + y² + 0.3 x, Δu = 6x + 2.
+template <int DIM>
+CacheCase<DIM> SphereCachePoisson()
+{
+  CacheCase<DIM> with;
+  with.Kind = Equation::Poisson;
+  with.U = [](const Vec<DIM>& x) { return x[0] * x[0] * x[0] + x[1] * x[1] + 0.3 * x[0]; };
+  with.Gradient = [](const Vec<DIM>& x) {
+    Vec<DIM> g = Vec<DIM>::Zero();
+    g[0] = 3.0 * x[0] * x[0] + 0.3;
+    g[1] = 2.0 * x[1];
+    return g;
+  };
+  with.F = [](const Vec<DIM>& x) { return 6.0 * x[0] + 2.0; };
+  return with;
+}
+
+template <int DIM>
+Problem<DIM> ProblemOf(const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with)
+{
+  const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { with.U }));
+  WalkSettings walk = CacheLaplace();
+  walk.Problem = with.Kind;
+  std::shared_ptr<SourceSet<DIM>> sources;
+  if (with.F)
+  {
+    sources = std::make_shared<SourceSet<DIM>>();
+    const Field<DIM> f = with.F;
+    sources->MakeVolume = [f](double) { return std::make_unique<FunctionSource<DIM>>(f); };
+  }
+  return Problem<DIM>(boundary, walk, sources);
+}
+
+// `caches` independent caches (seeds) at `points`, pooled against the exact
+// solution; returns the points answered by the first.
+template <int DIM>
+std::size_t PoolSphereCaches(const Problem<DIM>& problem,
+  const std::vector<std::array<double, 3>>& points, int caches, const CacheCase<DIM>& with,
+  CachePooled& values, CachePooled& gradients, int samples = DIM == 2 ? 1024 : 512)
+{
+  std::size_t answered = 0;
+  for (int k = 0; k < caches; ++k)
+  {
+    SphereCacheSettings settings;
+    settings.SamplesPerSphere = samples;
+    settings.SourceSamples = 64;
+    settings.Seed = 500 + static_cast<std::uint64_t>(k);
+    SphereCache<DIM> cache(problem, settings);
+    CacheEvaluation answer;
+    EXPECT_TRUE(cache.Answer(problem, points, true, answer));
+    const std::size_t count =
+      PoolAnswers<DIM>(answer, points, with.U, with.Gradient, values, gradients);
+    answered = k == 0 ? count : answered;
+  }
+  return answered;
+}
+
+template <int DIM>
+void ExpectCalibratedSpheres(const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with, int caches)
+{
+  const Problem<DIM> problem = ProblemOf<DIM>(mesh, with);
+  const auto points = CacheProbe<DIM>(40, 0.9);
+  CachePooled values, gradients;
+  EXPECT_GE(PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients), 36u);
+  ExpectPooledCalibrated(values, gradients);
+}
+} // namespace
+
+TEST(SphereCache, CalibratedInTheBallAndDisc)
+{
+  ExpectCalibratedSpheres<3>(MakeIcosphere(4), CacheCase<3>(), 12);
+  ExpectCalibratedSpheres<2>(MakeCircle(1024), CacheCase<2>(), 24);
+}
+
+TEST(SphereCache, PoissonCalibrated)
+{
+  ExpectCalibratedSpheres<3>(MakeIcosphere(4), SphereCachePoisson<3>(), 12);
+  ExpectCalibratedSpheres<2>(MakeCircle(1024), SphereCachePoisson<2>(), 24);
+}
+
+// The L of three unit cells (a reflex edge or corner, a shape the tests
+// above do not use), a grid of points inside it down to 0.03 from the
+// boundary, with a source.
+template <int DIM>
+void ExpectSpheresCalibratedInTheL(int caches)
+{
+  const CacheCase<DIM> with = SphereCachePoisson<DIM>();
+  const Problem<DIM> problem = ProblemOf<DIM>(MakeCacheL<DIM>(), with);
+  const std::vector<std::array<double, 3>> points = CacheLGrid(0.03, 0.2425, 0.97);
+  CachePooled values, gradients;
+  EXPECT_GE(PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients), 20u);
+  ExpectPooledCalibrated(values, gradients);
+}
+
+TEST(SphereCache, CalibratedInTheL)
+{
+  ExpectSpheresCalibratedInTheL<3>(12);
+  ExpectSpheresCalibratedInTheL<2>(24);
+}
+
+// A point's answer depends on the point alone: asked alone, after other
+// points, or with one thread or two, the same bits; the spheres it made are
+// reused (no walks the second time).
+TEST(SphereCache, AnswersDependOnThePointOnly)
+{
+  const CacheCase<3> with = SphereCachePoisson<3>();
+  const Problem<3> problem = ProblemOf<3>(MakeIcosphere(3), with);
+  const std::vector<std::array<double, 3>> first = { { 0.1, 0.2, 0.3 }, { -0.5, 0.1, 0.0 } };
+  // The second point is a vertex of the mesh: on the boundary, no sphere
+  // holds it.
+  const Vec<3> vertex = MakeIcosphere(3).Vertices[0];
+  const std::vector<std::array<double, 3>> second = { { 0.12, 0.2, 0.28 },
+    { vertex[0], vertex[1], vertex[2] }, { 2.0, 0.0, 0.0 }, { 0.4, -0.4, 0.2 } };
+  CacheEvaluation alone, after, oneThread;
+  SphereCacheSettings settings;
+  settings.SamplesPerSphere = 32;
+  settings.SourceSamples = 32;
+  {
+    SphereCache<3> cache(problem, settings);
+    ASSERT_TRUE(cache.Answer(problem, second, true, alone));
+  }
+  {
+    SphereCache<3> cache(problem, settings);
+    CacheEvaluation ignored;
+    ASSERT_TRUE(cache.Answer(problem, first, true, ignored));
+    const std::uint64_t walks = cache.Walks();
+    EXPECT_GT(walks, 0u);
+    ASSERT_TRUE(cache.Answer(problem, second, true, after));
+    ASSERT_TRUE(cache.Answer(problem, second, true, after));
+    EXPECT_EQ(cache.Walks(), 0u);
+  }
+  {
+    settings.Threads = 1;
+    SphereCache<3> cache(problem, settings);
+    ASSERT_TRUE(cache.Answer(problem, second, true, oneThread));
+  }
+  for (const CacheEvaluation* other : { &after, &oneThread })
+  {
+    EXPECT_EQ(0, std::memcmp(alone.Value.data(), other->Value.data(), alone.Value.size() * 8));
+    EXPECT_EQ(0, std::memcmp(alone.ValueVariance.data(), other->ValueVariance.data(),
+                   alone.ValueVariance.size() * 8));
+    EXPECT_EQ(
+      0, std::memcmp(alone.Gradient.data(), other->Gradient.data(), alone.Gradient.size() * 8));
+  }
+  EXPECT_TRUE(alone.InShell[1] || alone.Outside[1]);
+  EXPECT_EQ(alone.Outside[2], 1);
+  EXPECT_FALSE(alone.InShell[0] || alone.Outside[0] || alone.InShell[3] || alone.Outside[3]);
+  EXPECT_TRUE(std::isnan(alone.Value[1]) && std::isnan(alone.Value[2]));
+}
+
+// A target variance doubles the samples of the spheres whose points are
+// above it, until every answered point meets it.
+TEST(SphereCache, TargetGrowsTheSpheres)
+{
+  const CacheCase<3> with;
+  const Problem<3> problem = ProblemOf<3>(MakeIcosphere(3), with);
+  const auto points = CacheProbe<3>(10, 0.7);
+  SphereCacheSettings settings;
+  settings.SamplesPerSphere = 16;
+  SphereCache<3> cache(problem, settings);
+  CacheEvaluation loose;
+  ASSERT_TRUE(cache.Answer(problem, points, false, loose));
+  double largest = 0.0;
+  for (double v : loose.ValueVariance)
+  {
+    largest = std::isfinite(v) ? std::max(largest, v) : largest;
+  }
+  const std::uint64_t before = cache.TotalWalks();
+  CacheEvaluation tight;
+  ASSERT_TRUE(cache.Answer(problem, points, false, tight, 0.1 * largest, 4096));
+  EXPECT_GT(cache.TotalWalks(), before);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (std::isfinite(tight.Value[i]))
+    {
+      EXPECT_LE(tight.ValueVariance[i], 0.1 * largest) << i;
+    }
+  }
+}
+
+TEST(SphereCache, RefusesWhatItCannotAnswer)
+{
+  const CacheCase<3> with;
+  const auto boundary =
+    std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(2), { with.U }));
+  WalkSettings screened = CacheLaplace();
+  screened.Problem = Equation::ScreenedPoisson;
+  screened.ScreeningCoefficient = 2.0;
+  EXPECT_THROW(SphereCache<3>(Problem<3>(boundary, screened), SphereCacheSettings()),
+    std::invalid_argument);
+  SphereCacheSettings wide;
+  wide.Reach = 1.0;
+  EXPECT_THROW(SphereCache<3>(Problem<3>(boundary, CacheLaplace()), wide), std::invalid_argument);
+}
