@@ -93,7 +93,7 @@ inline double LargestAnsweredVariance(const CacheEvaluation& e)
 // The boundary value cache into `slot`: built, reused or grown, then asked.
 template <int DIM>
 bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target,
+  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
   const BatchProgressCallback& progress, CacheAnswers& out)
 {
   std::shared_ptr<BoundaryValueCache<DIM>>& cache = slot.BoundaryCache<DIM>();
@@ -101,7 +101,8 @@ bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const
   // A fixed-count solve asking for fewer walks than the cache holds gets
   // a cache of that many (the bits of a fresh solve); a target-error
   // solve keeps a cache grown for an earlier target.
-  if (cache && target <= 0.0 && cache->WalksPerCachePoint() > settings.WalksPerCachePoint)
+  if (cache && target <= 0.0 && !keepGrown &&
+    cache->WalksPerCachePoint() > settings.WalksPerCachePoint)
   {
     cache.reset();
   }
@@ -143,15 +144,24 @@ bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const
 // points need, and grows them to a target).
 template <int DIM>
 bool AnswerFromSphereCache(const Problem<DIM>& problem, CacheSlot& slot, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target,
+  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
   const BatchProgressCallback& progress, CacheAnswers& out)
 {
   std::shared_ptr<SphereCache<DIM>>& cache = slot.Spheres<DIM>();
   const SphereCacheSettings settings = SphereCacheSettingsOf(s);
+  // More walks per sphere top the spheres up as points need them; a
+  // fixed-count solve asking for fewer than a sphere holds gets a cache of
+  // that many (the bits of a fresh solve); a target-error solve keeps
+  // spheres grown for an earlier target.
+  if (cache && target <= 0.0 && !keepGrown && cache->MostSamples() > settings.SamplesPerSphere)
+  {
+    cache.reset();
+  }
   if (!cache)
   {
     cache = std::make_shared<SphereCache<DIM>>(problem, settings);
   }
+  cache->SetSamplesPerSphere(std::max(cache->SamplesPerSphere(), settings.SamplesPerSphere));
   const int most = std::max(s.WalksPerPoint, settings.SamplesPerSphere);
   const bool done =
     cache->Answer(problem, points, gradient, out.Answers, target * target, most, progress);
@@ -170,11 +180,13 @@ bool AnswerFromSphereCache(const Problem<DIM>& problem, CacheSlot& slot, const S
 
 // Fills `out` for `points` from the cache the settings choose: builds it
 // into the problem's slot (or reuses or grows the one there), asks it and
-// splits the points. False after an error (reported on `self`) or an abort
+// splits the points. A fixed-count solve gets the bits of a fresh cache
+// (one grown past its walks is built anew) unless `keepGrown` (the rounds
+// of a time budget). False after an error (reported on `self`) or an abort
 // (the slot keeps what was run, and the next batch continues from it).
 template <int DIM>
 bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target,
+  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
   const BatchProgressCallback& progress, CacheAnswers& out)
 {
   const auto start = std::chrono::steady_clock::now();
@@ -183,8 +195,10 @@ bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveS
   try
   {
     const bool done = spheres
-      ? detail::AnswerFromSphereCache<DIM>(problem, *built.Caches, s, points, gradient, target, progress, out)
-      : detail::AnswerFromBoundaryCache<DIM>(problem, *built.Caches, s, points, gradient, target, progress, out);
+      ? detail::AnswerFromSphereCache<DIM>(
+          problem, *built.Caches, s, points, gradient, target, keepGrown, progress, out)
+      : detail::AnswerFromBoundaryCache<DIM>(
+          problem, *built.Caches, s, points, gradient, target, keepGrown, progress, out);
     if (!done)
     {
       return false;

@@ -684,7 +684,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
       run.ProgressBegin + 0.8 * (run.ProgressEnd - run.ProgressBegin);
     ProgressReporter cacheProgress(self, cacheRun, warn, numPoints, s.WalksPerCachePoint, 0.0);
     if (!AnswerFromCache<DIM>(self, built, s, points, derivatives.Gradient, target,
-          std::ref(cacheProgress), cached))
+          run.KeepGrownCaches, std::ref(cacheProgress), cached))
     {
       result.Completed = false;
       return false;

@@ -53,6 +53,9 @@ struct PointEstimateRun
   // Warn about points whose error bar cannot be trusted (the application
   // filters' inner solves do not: their outputs are not these estimates).
   bool ReportUnreliableErrorBars = true;
+  // A cache estimator keeps a cache grown past the walks asked for (the
+  // rounds of a time budget) rather than building a fresh one.
+  bool KeepGrownCaches = false;
 };
 
 struct PointEstimateSummary

@@ -251,8 +251,9 @@ struct ProblemBuilder::Internals
   }
 
   // The slot for `out`: the same while the cache key holds; a cache kind
-  // whose own settings changed is dropped (the boundary cache's walks per
-  // point are not among them: it grows to more, BoundaryValueCache::Refine).
+  // whose own settings changed is dropped (the walks per cache point or
+  // per sphere are not among them: a cache grows to more walks,
+  // GridFreeCacheAnswers.h).
   void KeepCaches(const WalkSettings& walk, BuiltProblem& out)
   {
     const SolveSettings& s = this->Settings;
@@ -268,7 +269,6 @@ struct ProblemBuilder::Internals
     boundary.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.CachePoints)));
     boundary.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.CacheVolumePoints)));
     AppendDouble(s.CacheShellDistance, spheres);
-    spheres.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.WalksPerSphere)));
     if (boundary != this->BoundaryCacheKey)
     {
       this->Caches->Boundary2.reset();

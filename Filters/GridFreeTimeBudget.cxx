@@ -46,6 +46,7 @@ bool EstimateWithinTimeBudget(vtkAlgorithm* reporter, const BuiltProblem& proble
   PointEstimateRun round = run;
   round.AnnounceLongSolves = false;
   round.ReportShortOfTarget = false;
+  round.KeepGrownCaches = true;
   round.Warn = [&warnings](const std::string& text) {
     if (std::find(warnings.begin(), warnings.end(), text) == warnings.end())
     {
@@ -72,6 +73,10 @@ bool EstimateWithinTimeBudget(vtkAlgorithm* reporter, const BuiltProblem& proble
   {
     SolveSettings roundSettings = settings;
     roundSettings.WalksPerPoint = walks;
+    // A cache grows with the rounds too: its walks per sphere (per boundary
+    // cache point) at least a point's.
+    roundSettings.WalksPerSphere = std::max(settings.WalksPerSphere, walks);
+    roundSettings.WalksPerCachePoint = std::max(settings.WalksPerCachePoint, walks);
     const double now = elapsed();
     round.ProgressBegin = run.ProgressBegin + span * std::min(1.0, now / budgetSeconds);
     round.ProgressEnd = run.ProgressBegin + span * std::min(1.0, (now + projected) / budgetSeconds);

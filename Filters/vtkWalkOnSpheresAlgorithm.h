@@ -106,9 +106,11 @@ public:
    * only). A cache is kept with the problem: a moved probe (slice, seeds)
    * reuses it; a change of the boundary, its values, the source, the
    * equation, Epsilon, MaxSteps, the seed or the cache's own settings
-   * builds a new one. A TargetStandardError doubles the cache's walks
-   * (per sphere, or per boundary cache point) until every point it answers
-   * meets the target, up to WalksPerPoint. Laplace and Poisson equations
+   * builds a new one. More WalksPerSphere (WalksPerCachePoint) grows the
+   * cache; a TargetStandardError doubles its walks (per sphere, or per
+   * boundary cache point) until every point it answers meets the target,
+   * up to WalksPerPoint; a time budget's rounds give it at least a point's
+   * walks. Laplace and Poisson equations
    * (volume sources; the boundary cache also screened Poisson) with
    * Dirichlet conditions on a closed mesh; value and gradient only.
    */

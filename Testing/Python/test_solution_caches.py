@@ -205,6 +205,29 @@ def test_a_moved_probe_reuses_the_spheres_it_meets_again():
     assert field(solver.GetOutput(), "CacheWalks") == field(solver.GetOutput(), "CacheSpheres") * 32
 
 
+def test_more_walks_per_sphere_top_the_spheres_up_and_a_time_budget_grows_them():
+    boundary = sphere_boundary(harmonic, resolution=48)
+    probe = plane(0.0, resolution=5)
+    solver = cache_solver(boundary, probe, SPHERES, WalksPerSphere=32)
+    solver.Update()
+    spheres = field(solver.GetOutput(), "CacheSpheres")
+    solver.SetWalksPerSphere(64)
+    solver.Update()
+    # The same spheres, each continued by 32 walks: the numbers of a fresh
+    # cache of 64 walks per sphere.
+    assert field(solver.GetOutput(), "CacheSpheres") == spheres
+    assert field(solver.GetOutput(), "CacheWalksRun") == spheres * 32
+    fresh = cache_solver(boundary, plane(0.0, resolution=5), SPHERES, WalksPerSphere=64)
+    fresh.Update()
+    assert arrays_of(solver.GetOutput()) == arrays_of(fresh.GetOutput())
+    # A time budget's rounds give the spheres at least a point's walks (the
+    # first round 128).
+    fresh.SetTimeBudgetSeconds(0.5)
+    fresh.SetWalksPerPoint(4096)
+    fresh.Update()
+    assert field(fresh.GetOutput(), "CacheWalks") >= field(fresh.GetOutput(), "CacheSpheres") * 128
+
+
 def test_what_the_cache_cannot_answer_is_refused_in_words():
     boundary = sphere_boundary(harmonic, resolution=16)
     solver = cache_solver(boundary, plane(0.0, resolution=2), ComputeHessian=True)

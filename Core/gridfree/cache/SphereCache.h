@@ -253,6 +253,25 @@ public:
   }
   int LatticeLevels() const { return this->Levels; }
 
+  // The walks a sphere starts with. Raising it tops up every sphere a later
+  // Answer needs (continuing its sample sequence: the bits of a cache made
+  // with the new count); the walks of spheres holding more stay.
+  int SamplesPerSphere() const { return this->Settings.SamplesPerSphere; }
+  void SetSamplesPerSphere(int samples)
+  {
+    this->Settings.SamplesPerSphere = std::max(samples, 4);
+  }
+  // The most walks any sphere holds (a target grows spheres past the start).
+  int MostSamples() const
+  {
+    int most = 0;
+    for (const SphereData& s : this->Spheres)
+    {
+      most = std::max(most, s.Samples);
+    }
+    return most;
+  }
+
 private:
   static constexpr std::uint64_t kNone = ~std::uint64_t(0);
 
