@@ -687,6 +687,15 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
           run.KeepGrownCaches, std::ref(cacheProgress), cached))
     {
       result.Completed = false;
+      if (self->GetAbortExecute())
+      {
+        // Aborted while the cache walked: the arrays, every point NaN (zero
+        // derivatives), so that filters downstream still find them; the
+        // cache keeps the walks it finished, and the next update continues.
+        arrays.Finish(true);
+        warn("The solve was aborted while the cache's walks ran: every point is NaN. Apply "
+             "again to continue (the walks the cache finished are kept).");
+      }
       return false;
     }
     WarnOfPointsOutside(cached.Outside, numPoints, warn);

@@ -228,6 +228,39 @@ def test_more_walks_per_sphere_top_the_spheres_up_and_a_time_budget_grows_them()
     assert field(fresh.GetOutput(), "CacheWalks") >= field(fresh.GetOutput(), "CacheSpheres") * 128
 
 
+@pytest.mark.parametrize("estimator", [CACHE, SPHERES])
+def test_an_abort_while_the_cache_walks_leaves_nan_and_resume_continues(estimator):
+    """Aborted at the first progress report, while the cache's walks run:
+    the output still has its arrays (every point NaN) and says why; Resume
+    then continues to the numbers of an uninterrupted solve."""
+    from vtkmodules.vtkCommonCore import vtkCommand
+    boundary = sphere_boundary(harmonic, resolution=48)
+    # Enough walks that the cache's batch reports progress (ten times a
+    # second) before it ends.
+    walks = {"WalksPerCachePoint": 256} if estimator == CACHE else {"WalksPerSphere": 2048}
+    solver = cache_solver(boundary, plane(0.0, resolution=4), estimator, **walks)
+    catcher = MessageCatcher(solver)
+
+    def on_progress(obj, event):
+        obj.SetAbortExecute(1)
+
+    tag = solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
+    solver.Update()
+    solver.RemoveObserver(tag)
+    assert solver.GetLastSolveAborted()
+    values = solver.GetOutput().GetPointData().GetArray("T")
+    assert values is not None and solver.GetOutput().GetPointData().GetArray("T_Gradient")
+    assert all(math.isnan(values.GetValue(i)) for i in range(values.GetNumberOfTuples()))
+    assert "aborted while the cache" in catcher.warning_text()
+    solver.SetAbortExecute(0)
+    solver.Resume()
+    solver.Update()
+    assert not solver.GetLastSolveAborted()
+    fresh = cache_solver(boundary, plane(0.0, resolution=4), estimator, **walks)
+    fresh.Update()
+    assert arrays_of(solver.GetOutput()) == arrays_of(fresh.GetOutput())
+
+
 def test_what_the_cache_cannot_answer_is_refused_in_words():
     boundary = sphere_boundary(harmonic, resolution=16)
     solver = cache_solver(boundary, plane(0.0, resolution=2), ComputeHessian=True)
