@@ -45,11 +45,6 @@ struct Harmonic
   }
 };
 
-double Exact(const Vec3& x)
-{
-  return x[0] * x[0] - x[1] * x[1] + 0.3 * x[2];
-}
-
 double Seconds(std::chrono::steady_clock::time_point since)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
