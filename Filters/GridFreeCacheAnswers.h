@@ -231,11 +231,14 @@ bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveS
       }
       out.ShortOfTarget += above ? 1 : 0;
     }
-    else
+    else if (std::isfinite(points[i][0]) && std::isfinite(points[i][1]) &&
+      std::isfinite(points[i][2]))
     {
       out.Walked.push_back(i);
       out.WalkedPoints.push_back(points[i]);
     }
+    // (Points with NaN or infinite coordinates, and those a mixed problem
+    // found outside, stay NaN: StartPoints counted them.)
   }
   out.Seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -269,12 +269,13 @@ void WarnOfPointsOutside(std::int64_t outside, std::int64_t points, const Warn& 
 
 // A cache's part of a batch, in field data: how many points it answered,
 // its size, and what this batch spent on it (CacheWalksRun 0: the cache
-// was reused as it was).
-void AddCacheFields(vtkFieldData* fd, const CacheAnswers& cached)
+// was reused as it was). `outsideBefore`: the points a mixed problem's
+// inside test left out before the cache saw them (StartPoints).
+void AddCacheFields(vtkFieldData* fd, const CacheAnswers& cached, std::int64_t outsideBefore)
 {
   AddFieldValue(fd, "PointsFromCache", static_cast<double>(cached.Answered));
   AddFieldValue(fd, "PointsWalkedInShell", static_cast<double>(cached.Walked.size()));
-  AddFieldValue(fd, "OutsidePoints", static_cast<double>(cached.Outside));
+  AddFieldValue(fd, "OutsidePoints", static_cast<double>(cached.Outside + outsideBefore));
   for (const auto& figure : cached.Figures)
   {
     AddFieldValue(fd, figure.first.c_str(), figure.second);
@@ -755,7 +756,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     AddSummaryFields(fd, found, mixed, start.Outside);
     if (cached.Active)
     {
-      AddCacheFields(fd, cached);
+      AddCacheFields(fd, cached, start.Outside);
     }
   }
   DebugSummary(self, found);

@@ -10,13 +10,18 @@
 // same RMSE (RMSE² × seconds is about constant for them: fitted on their
 // rows). With --boundary, the boundary value cache's rows (BoundaryValueCache.h,
 // icosphere only) follow: it answers the points outside its own shell, so
-// the table splits the RMSE (and the time) there.
+// the table splits the RMSE (and the time) there. With --peers (and the
+// authors' sources configured in), their boundary value caching follows on
+// the same slice, with the time the sphere cache takes at its RMSE.
 #include <gridfree/cache/BoundaryValueCache.h>
 #include <gridfree/cache/CacheProblemChecks.h>
 #include <gridfree/cache/SphereCache.h>
 #include "BenchmarkMeshes.h"
 #include "EstimatorChecks.h"
 #include "TestMeshes.h"
+#ifdef GRIDFREE_WITH_ZOMBIE_CACHE
+#include "ZombieCacheRows.h"
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -271,10 +276,18 @@ double PointwiseRows(const Problem<3>& problem, const Slice& slice, bool quick)
 // The sphere cache at several walks per sphere, each pooled over `seeds`
 // caches (one cache's errors are correlated within a sphere): seconds to
 // make the spheres and answer, plus the shell's pointwise walks; the RMSE
-// over every point; the pointwise time at that RMSE.
-void SphereCacheRows(const Problem<3>& problem, const Slice& slice, bool quick, int seeds,
-  double pointwiseConstant)
+// over every point; the pointwise time at that RMSE. Returns the rows'
+// (seconds, RMSE).
+struct TimeAndError
 {
+  double Seconds;
+  double Rmse;
+};
+
+std::vector<TimeAndError> SphereCacheRows(const Problem<3>& problem, const Slice& slice,
+  bool quick, int seeds, double pointwiseConstant)
+{
+  std::vector<TimeAndError> rows;
   for (int samples : { 16, 64, 256, 1024 })
   {
     if (quick && (samples == 16 || samples == 1024))
@@ -329,8 +342,69 @@ void SphereCacheRows(const Problem<3>& problem, const Slice& slice, bool quick, 
                 "shell; mean z2 %.2f over %d caches) | %.2f | %.2e | %.2f | %.1fx |\n",
       samples, spheres / static_cast<std::size_t>(seeds), shell / static_cast<std::size_t>(seeds),
       sumZ2 / static_cast<double>(zCount), seeds, seconds, all.Rmse(), equal, equal / seconds);
+    rows.push_back({ seconds, all.Rmse() });
+  }
+  return rows;
+}
+
+// The seconds a method with these rows takes for `rmse`: interpolated in
+// log–log between the two rows around it, or from the nearest row with
+// RMSE² × seconds constant (the Monte Carlo rate) outside them.
+double SecondsAtRmse(std::vector<TimeAndError> rows, double rmse)
+{
+  std::sort(rows.begin(), rows.end(),
+    [](const TimeAndError& a, const TimeAndError& b) { return a.Rmse > b.Rmse; });
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k)
+  {
+    const TimeAndError& a = rows[k];
+    const TimeAndError& b = rows[k + 1];
+    if (rmse <= a.Rmse && rmse >= b.Rmse)
+    {
+      const double t = std::log(rmse / a.Rmse) / std::log(b.Rmse / a.Rmse);
+      return std::exp(std::log(a.Seconds) + t * std::log(b.Seconds / a.Seconds));
+    }
+  }
+  const TimeAndError& nearest = rmse > rows.front().Rmse ? rows.front() : rows.back();
+  return nearest.Seconds * (nearest.Rmse / rmse) * (nearest.Rmse / rmse);
+}
+
+#ifdef GRIDFREE_WITH_ZOMBIE_CACHE
+// The authors' boundary value caching on the same slice, at several cache
+// sizes and walks per cache point, against the sphere cache's time at the
+// same RMSE (their defaults: 1,024 points, 640 walks).
+void ZombieCacheRows(const SimplexMesh<3>& mesh, const Harmonic& exact, const Slice& slice,
+  double epsilon, bool quick, const std::vector<TimeAndError>& ours)
+{
+  std::vector<std::array<double, 3>> vertices;
+  for (const Vec3& v : mesh.Vertices)
+  {
+    vertices.push_back({ v[0], v[1], v[2] });
+  }
+  const std::vector<std::array<std::int64_t, 3>> triangles(mesh.Simplices.begin(), mesh.Simplices.end());
+  const auto u = [&exact](const std::array<double, 3>& x) { return exact(Vec3(x[0], x[1], x[2])); };
+  std::printf("\n| zombie boundary value caching | seconds (+ hierarchy) | RMSE | points walked "
+              "near the boundary | sphere cache seconds at this RMSE | less time |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  const std::vector<std::pair<int, int>> sizes = quick
+    ? std::vector<std::pair<int, int>>{ { 1024, 640 }, { 4096, 128 } }
+    : std::vector<std::pair<int, int>>{ { 1024, 128 }, { 1024, 640 }, { 4096, 128 }, { 4096, 640 },
+        { 16384, 128 } };
+  for (const auto& size : sizes)
+  {
+    bench::ZombieCacheSettings settings;
+    settings.CachePoints = size.first;
+    settings.GradientWalks = size.second;
+    settings.Epsilon = epsilon;
+    const bench::ZombieCacheResult r =
+      bench::RunZombieBoundaryValueCaching(vertices, triangles, u, slice.Points, settings);
+    const double equal = SecondsAtRmse(ours, r.Rmse);
+    std::printf("| %d cache points x %d walks | %.2f (+ %.2f) | %.2e | %d | %.2f | %.1fx |\n",
+      size.first, size.second, r.Seconds, r.SetupSeconds, r.Rmse, r.NearBoundaryPoints, equal,
+      r.Seconds / equal);
+    std::fflush(stdout);
   }
 }
+#endif
 } // namespace
 
 int main(int argc, char** argv)
@@ -338,7 +412,7 @@ int main(int argc, char** argv)
   int levels = 7; // 327,680 triangles
   int resolution = 100;
   double offset = BoundaryCacheSettings().Offset;
-  bool quick = false, boundaryRows = false;
+  bool quick = false, boundaryRows = false, peers = false;
   int seeds = 4;
   std::string shape = "icosphere", data;
   std::vector<std::size_t> cacheSizes = { 1024, 4096, 16384 };
@@ -378,6 +452,10 @@ int main(int argc, char** argv)
     else if (!std::strcmp(argv[a], "--boundary"))
     {
       boundaryRows = true;
+    }
+    else if (!std::strcmp(argv[a], "--peers"))
+    {
+      peers = true;
     }
     else if (!std::strcmp(argv[a], "--resolution") && a + 1 < argc)
     {
@@ -424,7 +502,16 @@ int main(int argc, char** argv)
   std::printf("| method | size | seconds | RMSE | pointwise seconds at this RMSE | less time |\n");
   std::printf("|---|---|---|---|---|---|\n");
   const double constant = PointwiseRows(problem, slice, quick);
-  SphereCacheRows(problem, slice, quick, seeds, constant);
+  const std::vector<TimeAndError> sphereRows = SphereCacheRows(problem, slice, quick, seeds, constant);
+  if (peers)
+  {
+#ifdef GRIDFREE_WITH_ZOMBIE_CACHE
+    ZombieCacheRows(mesh, exact, slice, walk.Epsilon, quick, sphereRows);
+#else
+    std::printf("\n(no zombie rows: configure with GRIDFREE_ZOMBIE_SOURCE_DIR, "
+                "GRIDFREE_FCPW_SOURCE_DIR and GRIDFREE_PCG32_INCLUDE_DIR)\n");
+#endif
+  }
   if (boundaryRows && shape == "icosphere")
   {
     std::printf("\n");

@@ -1,8 +1,9 @@
-// The only file that includes the authors' headers (see ZombieStarsRows.h).
+// One of the two files that include the authors' headers (see ZombieStarsRows.h).
 #include "ZombieStarsRows.h"
 
 #include <zombie/point_estimation/walk_on_stars.h>
 #include <zombie/utils/fcpw_geometric_queries.h>
+#include "ZombieMesh.h"
 
 #include <chrono>
 #include <cmath>
@@ -14,49 +15,7 @@ namespace gridfree
 {
 namespace bench
 {
-namespace
-{
-using Point = std::array<double, 3>;
-
-zombie::Vector3 ToFloat(const Point& p)
-{
-  return zombie::Vector3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
-}
-
-Point ToDouble(const zombie::Vector3& p)
-{
-  return Point{ p[0], p[1], p[2] };
-}
-
-double SecondsSince(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The primitives of one part with their own compact vertex list.
-struct Part
-{
-  std::vector<zombie::Vector3> Positions;
-  std::vector<zombie::Vector3i> Indices;
-};
-
-void Add(Part& part, std::vector<int>& map, const std::vector<Point>& vertices,
-  const std::array<std::int64_t, 3>& triangle)
-{
-  zombie::Vector3i indices;
-  for (int k = 0; k < 3; ++k)
-  {
-    int& m = map[static_cast<std::size_t>(triangle[k])];
-    if (m < 0)
-    {
-      m = static_cast<int>(part.Positions.size());
-      part.Positions.push_back(ToFloat(vertices[static_cast<std::size_t>(triangle[k])]));
-    }
-    indices[k] = m;
-  }
-  part.Indices.push_back(indices);
-}
-} // namespace
+using namespace zombie_mesh;
 
 ZombieResult RunZombieWalkOnStars(const ZombieProblem& problem,
   const std::vector<std::array<double, 3>>& points, int walks, double epsilon, int maxSteps)
@@ -84,17 +43,11 @@ ZombieResult RunZombieWalkOnStars(const ZombieProblem& problem,
       Add(reflecting, mapR, vertices, t);
     }
   }
-  zombie::Vector3 lo = zombie::Vector3::Constant(std::numeric_limits<float>::max());
-  zombie::Vector3 hi = -lo;
-  for (const Point& v : vertices)
-  {
-    lo = lo.cwiseMin(ToFloat(v));
-    hi = hi.cwiseMax(ToFloat(v));
-  }
+  zombie::Vector3 lo, hi;
+  Bounds(vertices, lo, hi);
   zombie::GeometricQueries<3> queries(true, lo, hi);
   zombie::FcpwDirichletBoundaryHandler<3> dirichletHandler;
-  dirichletHandler.buildAccelerationStructure(absorbing.Positions, absorbing.Indices, true, false, false);
-  zombie::populateGeometricQueriesForDirichletBoundary<3>(dirichletHandler, queries);
+  UseDirichletPart(dirichletHandler, absorbing, queries);
   zombie::FcpwNeumannBoundaryHandler<3> neumannHandler;
   neumannHandler.buildAccelerationStructure(reflecting.Positions, reflecting.Indices,
     zombie::getIgnoreCandidateSilhouetteCallback(false), true, false, false);

@@ -1,7 +1,8 @@
 """Mixed boundary conditions through the solver's VTK API (walk on stars,
 Documentation/WalkOnStars.md): Dirichlet, Neumann and Robin cells of one
 mesh chosen by a condition array, against harmonic closed forms (|z| < 5,
-mean z^2 near 1), and the messages of what cannot work."""
+mean z^2 near 1), also from the sphere cache, and the messages of what
+cannot work."""
 import math
 import os
 import sys
@@ -143,6 +144,25 @@ def test_dirichlet_neumann_and_robin_faces_of_a_box():
     assert field(out, "OutsidePoints") == len(outside)
     assert "lie outside the closed boundary" in catcher.warning_text()
     assert field(out, "BackFaceHits") == 0
+
+
+def test_the_sphere_cache_answers_mixed_conditions():
+    # The spheres keep clear of the whole boundary and their samples walk
+    # on stars: the same box, every inside point from the cache.
+    outside = [(0.9, 0.0, 0.0)]
+    solver = mixed_solver(box(), cloud(150, outside=outside), walks=256)
+    solver.SetEstimator(SOLVER.SPHERE_CACHE)
+    solver.SetWalksPerSphere(256)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    n = out.GetNumberOfPoints()
+    assert_calibrated(z_scores(out, u3)[: n - len(outside)])
+    assert field(out, "PointsFromCache") + field(out, "PointsWalkedInShell") == n - len(outside)
+    assert field(out, "CacheSpheres") > 0
+    assert field(out, "OutsidePoints") == len(outside)
+    assert math.isnan(out.GetPointData().GetArray("T").GetTuple1(n - 1))
 
 
 def test_a_wrong_flux_sign_is_detected():

@@ -1,5 +1,6 @@
 // What the caches (BoundaryValueCache.h, SphereCache.h) ask of a problem:
-// Dirichlet conditions and volume sources only, and which side of the
+// volume sources only (and Dirichlet conditions only, for the boundary
+// value cache), and which side of the
 // closed mesh is its inside (the orientation that makes the primitives'
 // normals point outward, from the sign of the volume, 3D, or area, 2D,
 // they enclose): they answer interior problems.
@@ -62,9 +63,21 @@ int OutwardOrientation(const Boundary<DIM>& boundary)
   return (DIM == 3) == (measure > 0.0) ? 1 : -1;
 }
 
+// Throws std::invalid_argument for point or curve sources; `name` names the
+// cache in the message.
+template <int DIM>
+void RequireVolumeSourcesOnly(const Problem<DIM>& problem, const char* name)
+{
+  const SourceSet<DIM>* sources = problem.GetSources();
+  if (sources && (sources->Points || sources->Curves))
+  {
+    throw std::invalid_argument(
+      std::string(name) + " takes volume sources only (yet): no point or curve sources");
+  }
+}
+
 // Throws std::invalid_argument unless the problem has Dirichlet
-// conditions only and no point or curve sources; `name` names the cache in
-// the message.
+// conditions only and no point or curve sources.
 template <int DIM>
 void RequireDirichletWithVolumeSources(const Problem<DIM>& problem, const char* name)
 {
@@ -73,12 +86,7 @@ void RequireDirichletWithVolumeSources(const Problem<DIM>& problem, const char* 
     throw std::invalid_argument(std::string(name) +
       " answers Dirichlet conditions only (yet): no Neumann or Robin parts");
   }
-  const SourceSet<DIM>* sources = problem.GetSources();
-  if (sources && (sources->Points || sources->Curves))
-  {
-    throw std::invalid_argument(
-      std::string(name) + " takes volume sources only (yet): no point or curve sources");
-  }
+  RequireVolumeSourcesOnly<DIM>(problem, name);
 }
 
 // Whether x lies outside the closed mesh (`orientation` from

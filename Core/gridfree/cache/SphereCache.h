@@ -40,13 +40,18 @@
 // that no level answers lie within about ShellDistance of the boundary:
 // they are left to pointwise walks (InShell), which are cheap there.
 //
-// Laplace's and Poisson's equations (volume sources) with Dirichlet
-// conditions on a closed mesh, in 2D and 3D.
+// Laplace's and Poisson's equations (volume sources) on a closed mesh, in
+// 2D and 3D, with Dirichlet conditions, or with Neumann or Robin parts:
+// then the spheres keep clear of the whole boundary (WholeBoundary.h) and
+// their samples' walks are walks on stars (the problem's own estimator),
+// which give values only, so the shell's points get no gradient from
+// pointwise walks.
 #ifndef GRIDFREE_CACHE_SPHERE_CACHE_H
 #define GRIDFREE_CACHE_SPHERE_CACHE_H
 
 #include <gridfree/cache/BoundaryValueCache.h>
 #include <gridfree/cache/CacheProblemChecks.h>
+#include <gridfree/cache/WholeBoundary.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sampling/Random.h>
@@ -88,7 +93,7 @@ public:
   // Checks the problem and prepares the lattices; no walks yet. Throws
   // std::invalid_argument for what it cannot answer.
   SphereCache(const Problem<DIM>& problem, const SphereCacheSettings& settings)
-    : Shape(problem.SharedBoundary())
+    : Shape(WholeBoundaryOf<DIM>(problem))
     , Settings(settings)
   {
     const Equation equation = problem.Settings().Problem;
@@ -97,7 +102,7 @@ public:
       throw std::invalid_argument(
         "the sphere cache answers Laplace's and Poisson's equation only (yet)");
     }
-    RequireDirichletWithVolumeSources<DIM>(problem, "the sphere cache");
+    RequireVolumeSourcesOnly<DIM>(problem, "the sphere cache");
     const SourceSet<DIM>* sources = problem.GetSources();
     if (settings.SamplesPerSphere < 4 || !(settings.Reach > 0.0 && settings.Reach < 1.0) ||
       !(settings.ShellDistance > 0.0))
