@@ -107,7 +107,7 @@ public:
    * reuses it; a change of the boundary, its values, the source, the
    * equation, Epsilon, MaxSteps, the seed or the cache's own settings
    * builds a new one. More WalksPerSphere (WalksPerCachePoint) grows the
-   * cache; a TargetStandardError doubles its walks (per sphere, or per
+   * cache; a TargetStandardError grows its walks (per sphere, or per
    * boundary cache point) until every point it answers meets the target,
    * up to WalksPerPoint; a time budget's rounds give it at least a point's
    * walks. Laplace and Poisson equations

@@ -102,13 +102,13 @@ def parse_arguments(argv):
                              "moved slices share")
     parser.add_argument("--target", type=float, default=0.0,
                         help="target standard error in degrees (0: a fixed count of walks)")
-    parser.add_argument("--walks-per-sphere", type=int, default=64,
+    parser.add_argument("--walks-per-sphere", type=int, default=128,
                         help="walks of each sphere of the sphere cache when it is made")
     return parser.parse_args(argv)
 
 
 def build_pipeline(volume_file, walks=128, slice_z=70.0, seed=0, estimator="pointwise",
-                   target=0.0, walks_per_sphere=64):
+                   target=0.0, walks_per_sphere=128):
     """Creates the workflow's proxies and returns them by name. The volume is
     read (for its grid) and the solver runs once (the arrows are scaled to
     its gradient); a view or UpdatePipeline runs the rest. With the sphere

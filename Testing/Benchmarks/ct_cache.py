@@ -6,7 +6,7 @@ pointwise walks, on a first slice and on slices moved 5 mm apart. Prints a
 table.
 
     pvbatch ct_cache.py [--estimator sphere|boundary] [--target 0.5] [--slices 10]
-                        [--pointwise-slices 2] [--walks-per-sphere 256] [--shell 0.02]
+                        [--pointwise-slices 2] [--walks-per-sphere 128] [--shell 0.02]
 
 Standard errors are sqrt(T_Variance) over the slice points inside the head
 (CT value of tissue), in degrees; seconds are wall-clock seconds of the
@@ -39,7 +39,7 @@ parser.add_argument("--cache-walks", type=int, default=64)
 parser.add_argument("--cache-volume-points", type=int, default=8192)
 parser.add_argument("--offset", type=float, default=0.01)
 parser.add_argument("--shell", type=float, default=0.02)
-parser.add_argument("--walks-per-sphere", type=int, default=256)
+parser.add_argument("--walks-per-sphere", type=int, default=128)
 parser.add_argument("--source-samples", type=int, default=256)
 parser.add_argument("--most", type=int, default=4096, help="the most walks per point")
 parser.add_argument("--step", type=float, default=5.0, help="slice spacing (mm)")
