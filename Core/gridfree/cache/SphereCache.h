@@ -21,9 +21,9 @@
 // variates that remove the spread the kernel's variation would otherwise
 // give the mean value and the linear part), and ∇u(x) ≈ mean of
 // ∇ₓw_i (û_i − ū₋ᵢ − β₋ᵢ·(s_i − c)) + β₋ᵢ. The variance of each mean is
-// the sample variance over N: calibrated per point. Points of one sphere share its walks, so their errors are
-// correlated (a smooth patch); points of different spheres are
-// independent.
+// the sample variance over N: calibrated per point. Points of one sphere
+// share its walks, so their errors are correlated (a smooth patch); points
+// of different spheres are independent.
 //
 // The source term is integrated per point, from x: y = x + tω, ω
 // stratified over directions (two per stratum), t uniform up to ∂B (the
@@ -223,7 +223,8 @@ public:
         for (int k = 0; above && k < covers[i].Count; ++k)
         {
           const std::size_t s = covers[i].Spheres[static_cast<std::size_t>(k)];
-          const int more = std::min(this->Spheres[s].Samples + this->Spheres[s].Samples / 4, mostSamples);
+          const int held = this->Spheres[s].Samples;
+          const int more = std::min(held + held / 4, mostSamples);
           if (more > this->Spheres[s].Samples)
           {
             wanted[s] = more;
