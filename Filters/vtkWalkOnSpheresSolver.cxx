@@ -263,8 +263,18 @@ void vtkWalkOnSpheresSolver::SetTimeBudgetSeconds(double seconds)
 
 void vtkWalkOnSpheresSolver::Refine()
 {
-  const int walks = this->GetWalksPerPoint();
-  this->SetWalksPerPoint(walks > VTK_INT_MAX / 2 ? VTK_INT_MAX : 2 * walks);
+  auto twice = [](int walks) { return walks > VTK_INT_MAX / 2 ? VTK_INT_MAX : 2 * walks; };
+  this->SetWalksPerPoint(twice(this->GetWalksPerPoint()));
+  // A cache answers most points from its own walks: they double too (the
+  // spheres or cache points continue their sample sequences).
+  if (this->GetEstimator() == SPHERE_CACHE)
+  {
+    this->SetWalksPerSphere(twice(this->GetWalksPerSphere()));
+  }
+  else if (this->GetEstimator() == BOUNDARY_CACHE)
+  {
+    this->SetWalksPerCachePoint(twice(this->GetWalksPerCachePoint()));
+  }
 }
 
 vtkWalkOnSpheresSolver::~vtkWalkOnSpheresSolver()

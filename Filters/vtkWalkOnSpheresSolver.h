@@ -550,8 +550,10 @@ public:
 
   /**
    * Doubles WalksPerPoint (up to VTK_INT_MAX): the next update adds as many
-   * walks as the last one had, continuing from the kept running sums.
-   * ParaView's "Refine" button.
+   * walks as the last one had, continuing from the kept running sums. With
+   * a cache estimator, WalksPerSphere (SPHERE_CACHE) or WalksPerCachePoint
+   * (BOUNDARY_CACHE) doubles too: the cache's spheres or points continue
+   * their walks. ParaView's "Refine" button.
    */
   void Refine();
 

@@ -196,25 +196,35 @@ void pqGridFreeResponsiveSolves::onSourceAdded(pqPipelineSource* source)
 void pqGridFreeResponsiveSolves::onDataUpdated(pqPipelineSource* source)
 {
   vtkSMProxy* proxy = source->getProxy();
-  auto walks = vtkSMIntVectorProperty::SafeDownCast(proxy->GetProperty("WalksPerPoint"));
   auto solver = vtkAlgorithm::SafeDownCast(proxy->GetClientSideObject());
-  if (!walks || !solver || source->modifiedState() != pqProxy::UNMODIFIED)
+  if (!solver || source->modifiedState() != pqProxy::UNMODIFIED)
   {
     return;
   }
-  // The walks the solver used (Refine doubles them on the solver itself).
-  int inUse = walks->GetElement(0);
-  vtkSmartPointer<vtkSMIntVectorProperty> info = vtkSMIntVectorProperty::SafeDownCast(
-    proxy->GetProperty("WalksPerPointInUse"));
-  if (info)
+  // The walk counts the solver used (Refine doubles them on the solver
+  // itself: the walks per point, and a cache's walks per sphere or per
+  // cache point).
+  bool followed = false;
+  for (const char* name : { "WalksPerPoint", "WalksPerSphere", "WalksPerCachePoint" })
   {
+    auto walks = vtkSMIntVectorProperty::SafeDownCast(proxy->GetProperty(name));
+    vtkSmartPointer<vtkSMIntVectorProperty> info = vtkSMIntVectorProperty::SafeDownCast(
+      proxy->GetProperty((std::string(name) + "InUse").c_str()));
+    if (!walks || !info)
+    {
+      continue;
+    }
     proxy->UpdatePropertyInformation(info);
-    inUse = info->GetElement(0);
+    const int inUse = info->GetElement(0);
+    if (inUse != walks->GetElement(0) && inUse > 0)
+    {
+      walks->SetElement(0, inUse);
+      followed = true;
+    }
   }
-  if (inUse != walks->GetElement(0) && inUse > 0)
+  if (followed)
   {
-    walks->SetElement(0, inUse);
-    proxy->UpdateVTKObjects(); // the same value: the solver is not modified
+    proxy->UpdateVTKObjects(); // the same values: the solver is not modified
     source->setModifiedState(pqProxy::UNMODIFIED);
   }
 }

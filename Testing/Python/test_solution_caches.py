@@ -205,7 +205,7 @@ def test_a_moved_probe_reuses_the_spheres_it_meets_again():
     assert field(solver.GetOutput(), "CacheWalks") == field(solver.GetOutput(), "CacheSpheres") * 32
 
 
-def test_more_walks_per_sphere_top_the_spheres_up_and_a_time_budget_grows_them():
+def test_more_walks_per_sphere_top_the_spheres_up_and_refine_and_a_time_budget_grow_them():
     boundary = sphere_boundary(harmonic, resolution=48)
     probe = plane(0.0, resolution=5)
     solver = cache_solver(boundary, probe, SPHERES, WalksPerSphere=32)
@@ -220,6 +220,16 @@ def test_more_walks_per_sphere_top_the_spheres_up_and_a_time_budget_grows_them()
     fresh = cache_solver(boundary, plane(0.0, resolution=5), SPHERES, WalksPerSphere=64)
     fresh.Update()
     assert arrays_of(solver.GetOutput()) == arrays_of(fresh.GetOutput())
+    # Refine doubles the spheres' walks with the points': the numbers of a
+    # fresh cache with both doubled.
+    solver.Refine()
+    solver.Update()
+    assert solver.GetWalksPerSphere() == 128 and solver.GetWalksPerPoint() == 128
+    assert field(solver.GetOutput(), "CacheWalksRun") == spheres * 64
+    doubled = cache_solver(boundary, plane(0.0, resolution=5), SPHERES, WalksPerSphere=128,
+                           WalksPerPoint=128)
+    doubled.Update()
+    assert arrays_of(solver.GetOutput()) == arrays_of(doubled.GetOutput())
     # A time budget's rounds give the spheres at least a point's walks (the
     # first round 128).
     fresh.SetTimeBudgetSeconds(0.5)

@@ -2,7 +2,7 @@
 radius 8 carrying g = x*y (harmonic), a Slice of a Wavelet volume through it
 at z = 0 as the probe, and the solver with the Sphere Cache estimator,
 applied and shown, with the Slice selected (as a user who is about to move
-it). An observer on the solver's server-side object appends one line per
+it), or the solver (GRIDFREE_GUI_SELECT=Solver, for cache_refine.xml). An observer on the solver's server-side object appends one line per
 execution to the file GRIDFREE_GUI_LOG names: the slice's height and the
 cache's field data (CacheWalks held, CacheWalksRun in this execution), which
 check_gui_cache.py reads to tell whether the moved slice was answered from
@@ -49,4 +49,6 @@ def record(algorithm, event):
 solver.GetClientSideObject().AddObserver("EndEvent", record)
 pvs.Show(solver)
 pvs.Render()
-pvs.SetActiveSource(cut)
+# The Slice selected, to move it (cache_moved_slice.xml), or the solver
+# with GRIDFREE_GUI_SELECT=Solver, to refine it (cache_refine.xml).
+pvs.SetActiveSource(solver if os.environ.get("GRIDFREE_GUI_SELECT") == "Solver" else cut)
