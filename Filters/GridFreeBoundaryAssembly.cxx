@@ -358,6 +358,21 @@ bool AssembleMixedBoundary(vtkObject* reporter, const gridfree::ProblemInputs& i
                                        "condition array marks no cell Neumann (1) or Robin (2): "
                                        "every cell is Dirichlet.");
   }
+  // A flux out of all proportion: across the boundary's size it would
+  // change u by far more than the boundary values are (1e8 times), or by
+  // so much that the walks' sums of squares overflow (1e100).
+  const double swing = counts.LargestFlux * counts.Size;
+  if (swing > 1e100 || (counts.LargestValue > 0.0 && swing > 1e8 * counts.LargestValue))
+  {
+    vtkWarningWithObjectMacro(self, << "The Neumann flux reaches " << counts.LargestFlux
+                                    << " on the Neumann and Robin cells: across the boundary's "
+                                       "size ("
+                                    << counts.Size << ") that changes the solution by about "
+                                    << swing << ", against boundary values of at most "
+                                    << counts.LargestValue
+                                    << ". Check the flux array's values and units (a fill "
+                                       "value for missing data?).");
+  }
   vtkDebugWithObjectMacro(self, << "Mixed boundary: " << counts.Dirichlet << " Dirichlet, "
                                 << counts.Neumann << " Neumann and " << counts.Robin
                                 << " Robin primitives.");

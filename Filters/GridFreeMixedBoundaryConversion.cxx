@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -30,6 +31,30 @@ std::string Describe(double v)
   text << v;
   return text.str();
 }
+
+// The cells or points holding a number that cannot be used: how many, and
+// the first.
+struct BadNumbers
+{
+  long long Count = 0;
+  vtkIdType First = -1;
+  double FirstValue = 0.0;
+  void Add(vtkIdType id, double value)
+  {
+    if (this->Count++ == 0)
+    {
+      this->First = id;
+      this->FirstValue = value;
+    }
+  }
+  // " (and N more …)" when there are others.
+  std::string More(const char* what) const
+  {
+    return this->Count > 1
+      ? " (and at " + std::to_string(this->Count - 1) + " more " + what + ")"
+      : std::string();
+  }
+};
 } // namespace
 
 template <int DIM>
@@ -78,6 +103,7 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
   // points (by the input's point ids, before any welding).
   std::vector<BoundaryCondition> conditions(np);
   std::vector<double> mu(np, 0.0);
+  BadNumbers badRobin;
   for (std::size_t p = 0; p < np; ++p)
   {
     const vtkIdType cell = cells.SourceCell[p];
@@ -128,11 +154,84 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
     }
     if (!(m >= 0.0) || !std::isfinite(m))
     {
-      reason = "the Robin coefficient of cell " + std::to_string(cell) + " is " + Describe(m) +
-        "; it must be finite and >= 0 (0 is the Neumann condition)";
-      return false;
+      badRobin.Add(cell, m);
     }
     mu[p] = m;
+  }
+  if (badRobin.Count > 0)
+  {
+    reason = "the Robin coefficient of cell " + std::to_string(badRobin.First) + " is " +
+      Describe(badRobin.FirstValue) + badRobin.More("Robin cells") +
+      "; it must be finite and >= 0 (0 is the Neumann condition)";
+    return false;
+  }
+  // The flux where it is used (the Neumann and Robin cells, or their
+  // points): finite, or an error naming the first cell or point.
+  if (arrays.Flux)
+  {
+    BadNumbers badFlux;
+    std::vector<unsigned char> seen(arrays.FluxOnCells ? 0 : cells.Vertices.size(), 0);
+    for (std::size_t p = 0; p < np; ++p)
+    {
+      if (conditions[p] == BoundaryCondition::Dirichlet)
+      {
+        continue;
+      }
+      for (int k = 0; k < (arrays.FluxOnCells ? 1 : DIM); ++k)
+      {
+        const vtkIdType id = arrays.FluxOnCells ? cells.SourceCell[p] : cells.Primitives[p][k];
+        if (!arrays.FluxOnCells)
+        {
+          if (seen[static_cast<std::size_t>(id)])
+          {
+            continue;
+          }
+          seen[static_cast<std::size_t>(id)] = 1;
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          const double h = arrays.Flux->GetComponent(id, c);
+          if (!std::isfinite(h))
+          {
+            badFlux.Add(id, h);
+            break;
+          }
+          counts.LargestFlux = std::max(counts.LargestFlux, std::abs(h));
+        }
+      }
+    }
+    if (badFlux.Count > 0)
+    {
+      const char* where = arrays.FluxOnCells ? "cell " : "point ";
+      reason = "the Neumann flux is " + Describe(badFlux.FirstValue) + " at " + where +
+        std::to_string(badFlux.First) +
+        badFlux.More(arrays.FluxOnCells ? "Neumann and Robin cells" : "points of Neumann and Robin cells") +
+        "; it must be finite where it is used (a fill value for missing data?)";
+      return false;
+    }
+  }
+  // The largest boundary value and the boundary's size, for the caller's
+  // check of a flux out of all proportion.
+  if (arrays.Values && !valueFunction)
+  {
+    for (vtkIdType t = 0; t < arrays.Values->GetNumberOfTuples(); ++t)
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        const double g = std::abs(arrays.Values->GetComponent(t, c));
+        counts.LargestValue = std::isfinite(g) ? std::max(counts.LargestValue, g) : counts.LargestValue;
+      }
+    }
+  }
+  {
+    Vec<DIM> lo = Vec<DIM>::Constant(std::numeric_limits<double>::infinity());
+    Vec<DIM> hi = -lo;
+    for (const Vec<DIM>& v : cells.Vertices)
+    {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    counts.Size = cells.Vertices.empty() ? 0.0 : (hi - lo).norm();
   }
 
   // Cell values (g and h) per primitive, read now while the source cells

@@ -54,13 +54,17 @@ struct MixedBoundaryCounts
   long long Dirichlet = 0;
   long long Neumann = 0;
   long long Robin = 0;
+  double LargestFlux = 0.0;  // |h| on the Neumann and Robin cells
+  double LargestValue = 0.0; // |g| in the boundary value array (0 with a value function)
+  double Size = 0.0;         // the boundary's bounding-box diagonal
 };
 
 // Fills `out` from the boundary's cells and arrays, with g from
 // `valueFunction` when it is given. False with a reason when the arrays do
 // not fit (a condition other than 0, 1 or 2; a flux of other components
-// than g; Robin cells without coefficients, or a negative one) or nothing
-// usable is left. `whileBuilding` as for ConvertBoundary.
+// than g, or not finite where it is used; Robin cells without
+// coefficients, or a negative or non-finite one: the first named, the
+// others counted) or nothing usable is left. `whileBuilding` as for ConvertBoundary.
 template <int DIM>
 bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arrays,
   std::shared_ptr<const BoundaryValueFunction<DIM>> valueFunction, MixedBoundary<DIM>& out,

@@ -189,6 +189,68 @@ def test_a_wrong_flux_sign_is_detected():
     assert sum(z * z for z in scores) / len(scores) > 4.0
 
 
+def faces_points(mesh, axis):
+    """The point ids of the cells on the faces normal to `axis` (each face
+    has its own points)."""
+    bc = mesh.GetCellData().GetArray("bc")
+    points = set()
+    for cell in range(mesh.GetNumberOfCells()):
+        if bc.GetValue(cell) == axis:
+            ids = mesh.GetCell(cell).GetPointIds()
+            points.update(ids.GetId(k) for k in range(ids.GetNumberOfIds()))
+    return sorted(points)
+
+
+def quick_solve(mesh):
+    """A small solve on `mesh`: its messages."""
+    solver = mixed_solver(mesh, cloud(10), walks=16)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    return catcher
+
+
+def test_a_non_finite_flux_or_robin_coefficient_is_an_error_that_says_where():
+    nan, inf = float("nan"), float("inf")
+    # NaN and infinite flux at three points of the Neumann faces.
+    mesh = box(level=4)
+    h = mesh.GetPointData().GetArray("h")
+    neumann = faces_points(mesh, 1)
+    for i, value in zip(neumann[:3], (nan, inf, -inf)):
+        h.SetValue(i, value)
+    catcher = quick_solve(mesh)
+    text = catcher.error_text()
+    assert "the Neumann flux is nan at point %d" % neumann[0] in text, text
+    assert "(and at 2 more points of Neumann and Robin cells)" in text, text
+    assert "overflowed" not in text + catcher.warning_text()
+    # Where the flux is not used (points of Dirichlet faces only), NaN is fine.
+    mesh = box(level=4)
+    h = mesh.GetPointData().GetArray("h")
+    for i in faces_points(mesh, 0)[:5]:
+        h.SetValue(i, nan)
+    catcher = quick_solve(mesh)
+    assert not catcher.errors, catcher.error_text()
+    # A Robin coefficient of NaN on three Robin cells.
+    mesh = box(level=4)
+    mu, bc = mesh.GetCellData().GetArray("mu"), mesh.GetCellData().GetArray("bc")
+    robin = [c for c in range(mesh.GetNumberOfCells()) if bc.GetValue(c) == 2]
+    for c in robin[:3]:
+        mu.SetValue(c, nan)
+    text = quick_solve(mesh).error_text()
+    assert "the Robin coefficient of cell %d is nan" % robin[0] in text, text
+    assert "(and at 2 more Robin cells)" in text, text
+
+
+def test_a_flux_out_of_all_proportion_is_warned():
+    mesh = box(level=4)
+    assert "Neumann flux reaches" not in quick_solve(mesh).warning_text()
+    h = mesh.GetPointData().GetArray("h")
+    for i in faces_points(mesh, 1)[:4]:
+        h.SetValue(i, 1e300)
+    mesh.Modified()
+    text = quick_solve(mesh).warning_text()
+    assert "The Neumann flux reaches 1e+300" in text, text
+
+
 def test_neumann_cells_met_from_outside_are_counted():
     # The mesh turned inside out: every normal points into the box.
     mesh = box(level=6)
