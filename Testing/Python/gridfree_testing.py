@@ -133,3 +133,15 @@ class MessageCatcher:
 
     def warning_text(self):
         return "\n".join(self.warnings)
+
+
+def update_aborted_at_first_progress(algorithm):
+    """Updates `algorithm`, asking it to abort at its first progress report
+    (as the GUI's Abort button does), and removes the observer after."""
+
+    def on_progress(obj, event):
+        obj.SetAbortExecute(1)
+
+    tag = algorithm.AddObserver(vtkCommand.ProgressEvent, on_progress)
+    algorithm.Update()
+    algorithm.RemoveObserver(tag)

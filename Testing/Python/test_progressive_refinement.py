@@ -10,7 +10,8 @@ import gridfree  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
 
-from gridfree_testing import point_cloud, sphere_boundary  # noqa: E402
+from gridfree_testing import (  # noqa: E402
+    point_cloud, sphere_boundary, update_aborted_at_first_progress)
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
 BOUNDARY = sphere_boundary(resolution=24)
@@ -143,18 +144,11 @@ def test_an_aborted_solve_keeps_its_walks_and_resumes():
     kept), an update without Resume runs nothing, and Resume then continues
     each point from its own count to one uninterrupted solve's numbers."""
     import math
-    from vtkmodules.vtkCommonCore import vtkCommand
     probe = plane(10)
     solver = solver_for(probe, walks=64, ControlVariates=False)
     solver.Update()
     solver.SetWalksPerPoint(2000)
-
-    def on_progress(obj, event):
-        obj.SetAbortExecute(1)
-
-    tag = solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
-    solver.Update()
-    solver.RemoveObserver(tag)
+    update_aborted_at_first_progress(solver)
     assert solver.GetLastSolveAborted()
     out = solver.GetOutput().GetPointData()
     counts = [out.GetArray("WalkCount").GetValue(i) for i in range(probe.GetNumberOfPoints())]

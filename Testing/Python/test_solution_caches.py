@@ -19,7 +19,7 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
 from vtkmodules.vtkFiltersSources import vtkPlaneSource  # noqa: E402
 
 from gridfree_testing import (  # noqa: E402
-    MessageCatcher, point_cloud, sphere_boundary)
+    MessageCatcher, point_cloud, sphere_boundary, update_aborted_at_first_progress)
 
 POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
 import pytest  # noqa: E402
@@ -243,20 +243,13 @@ def test_an_abort_while_the_cache_walks_leaves_nan_and_resume_continues(estimato
     """Aborted at the first progress report, while the cache's walks run:
     the output still has its arrays (every point NaN) and says why; Resume
     then continues to the numbers of an uninterrupted solve."""
-    from vtkmodules.vtkCommonCore import vtkCommand
     boundary = sphere_boundary(harmonic, resolution=48)
     # Enough walks that the cache's batch reports progress (ten times a
     # second) before it ends.
     walks = {"WalksPerCachePoint": 256} if estimator == CACHE else {"WalksPerSphere": 2048}
     solver = cache_solver(boundary, plane(0.0, resolution=4), estimator, **walks)
     catcher = MessageCatcher(solver)
-
-    def on_progress(obj, event):
-        obj.SetAbortExecute(1)
-
-    tag = solver.AddObserver(vtkCommand.ProgressEvent, on_progress)
-    solver.Update()
-    solver.RemoveObserver(tag)
+    update_aborted_at_first_progress(solver)
     assert solver.GetLastSolveAborted()
     values = solver.GetOutput().GetPointData().GetArray("T")
     assert values is not None and solver.GetOutput().GetPointData().GetArray("T_Gradient")
