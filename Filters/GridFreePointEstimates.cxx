@@ -236,13 +236,13 @@ void FillBoundaryArrays(
 
 // The derivatives asked for: the derivative estimator runs whenever a
 // derivative or a control variate is asked for (the value's control needs
-// the gradient, which walk on stars does not estimate yet).
-DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool mixed, bool cache)
+// the gradient; with mixed conditions too, StarDerivativeWalks.h).
+DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool cache)
 {
   DerivativeRequest request;
   request.Gradient = s.ComputeGradient;
   request.Hessian = s.ComputeHessian;
-  request.ControlVariates = s.ControlVariates && !mixed;
+  request.ControlVariates = s.ControlVariates;
   request.AntitheticPairs = s.AntitheticPairs;
   request.Directional = s.ComputeDirectionalDerivative;
   request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
@@ -653,7 +653,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   const auto numPoints = static_cast<vtkIdType>(probePoints.size());
 
   const bool cacheChosen = s.Estimator != Estimator::PointwiseWalks && built.Caches;
-  const DerivativeRequest derivatives = DerivativesOf(s, nc, mixed, cacheChosen);
+  const DerivativeRequest derivatives = DerivativesOf(s, nc, cacheChosen);
   if (cacheChosen && (derivatives.Hessian || derivatives.Directional))
   {
     vtkErrorWithObjectMacro(self, << "The cache estimators give the value and the gradient: "

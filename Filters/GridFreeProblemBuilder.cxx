@@ -461,7 +461,7 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
   if (settings.MixedBoundaryConditions)
   {
     // Walk on stars: the reflecting part must be a mesh whose orientation
-    // is known, and only values are estimated so far.
+    // is known.
     const char* unsupported = csg ? "a CSG boundary"
       : implicit                  ? "an implicit boundary"
       : settings.TwoSidedBoundaryValues ? "two-sided boundary values"
@@ -474,15 +474,6 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
                                     << unsupported
                                     << ": they need a mesh boundary and the Laplace, Poisson or "
                                        "screened Poisson equation.");
-      return false;
-    }
-    if (settings.ComputeGradient || settings.ComputeHessian ||
-      settings.ComputeDirectionalDerivative)
-    {
-      vtkErrorWithObjectMacro(self, << "Mixed boundary conditions (walk on stars) estimate the "
-                                       "solution only, not yet its derivatives: turn off "
-                                       "Compute Gradient, Compute Hessian and Compute "
-                                       "Directional Derivative (or Mixed Boundary Conditions).");
       return false;
     }
   }

@@ -277,9 +277,10 @@ public:
    * (counter-clockwise seen from outside; in 2D the domain on the left of
    * every line): the field data BackFaceHits counts walks that met them from
    * the other side, the sign of a wrong orientation or a leak. Laplace,
-   * Poisson and screened Poisson equations, values only: not the biharmonic
-   * equation, gradients, Hessians, directional derivatives, implicit, CSG or
-   * two-sided boundaries, or Bézier curves. With Neumann cells alone the
+   * Poisson and screened Poisson equations, the solution and its
+   * derivatives (a first ball clear of the whole boundary, then walk on
+   * stars): not the biharmonic equation, implicit, CSG or two-sided
+   * boundaries, or Bézier curves. With Neumann cells alone the
    * Laplace and Poisson equations have no unique solution: some cells must be
    * Dirichlet or Robin (or the equation screened). The name "None" for the
    * flux or Robin selection means no array.

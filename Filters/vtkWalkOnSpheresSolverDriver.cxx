@@ -66,6 +66,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AntitheticPairs, bool, 
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, TwoSidedBoundaryValues, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, MixedBoundaryConditions, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NestedWalks, int, 1, VTK_INT_MAX)
 
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, Equation, gridfree::Equation, 3)

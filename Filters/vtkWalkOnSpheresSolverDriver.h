@@ -90,7 +90,11 @@ public:
    * (and the biharmonic h) as expressions in x, y, z; the implicit
    * function's LipschitzBound; CsgOperation and CsgBlendRadius for a
    * composite Boundary; TwoSidedBoundaryValues (the back side's array is
-   * input array 3); SourceSampling; BiharmonicStrategy and NestedWalks.
+   * input array 3); MixedBoundaryConditions (the condition, flux and Robin
+   * coefficient arrays are input arrays 4, 5 and 6: Neumann and Robin
+   * parts, solved by walk on stars with derivatives from a first ball clear
+   * of the whole boundary); SourceSampling; BiharmonicStrategy and
+   * NestedWalks.
    */
   void SetBoundaryValueExpression(const char* expression);
   const char* GetBoundaryValueExpression();
@@ -104,6 +108,9 @@ public:
   double GetCsgBlendRadius();
   void SetTwoSidedBoundaryValues(bool twoSided);
   bool GetTwoSidedBoundaryValues();
+  void SetMixedBoundaryConditions(bool mixed);
+  bool GetMixedBoundaryConditions();
+  vtkBooleanMacro(MixedBoundaryConditions, bool);
   void SetSourceSampling(int sampling);
   int GetSourceSampling();
   /// What the source term is made of the source data: the values, or the

@@ -14,13 +14,17 @@ dT/dn = 0), and the skin keeps its temperature T(x, y, z): a point
 Calculator marks the cap's points (bc = 1, Neumann) and the rest of the
 skin (bc = 0, Dirichlet), and the Walk On Spheres Solver's Mixed Boundary
 Conditions use that array. Both problems are solved on the same vertical
-slice through the head; points outside the head are left out (NaN).
+slice through the head, with the gradient (a first ball clear of the whole
+boundary, then walk on stars); points outside the head are left out (NaN).
 Writes into the output folder:
-  neck_slice.vtp   the slice with T (insulated neck), T_Variance and
-                   T_Dirichlet (the whole skin at T, for comparison)
-  neck_slice.png   both solutions side by side with their isotherms: with
-                   the neck insulated they meet the cut at right angles
-and prints points, walks, seconds and how much the neck's temperature moved.
+  neck_slice.vtp   the slice with T (insulated neck), T_Variance, T_Gradient
+                   and T_Dirichlet (the whole skin at T, for comparison)
+  neck_slice.png   both solutions side by side with their isotherms, and on
+                   the insulated one ParaView's streamlines and arrows of
+                   T_Gradient: with the neck insulated, isotherms meet the
+                   cut at right angles and heat flows along it, not through
+and prints points, walks, seconds, how much the neck's temperature moved
+and the gradient across the cut just above it in both problems.
 """
 import argparse
 import math
@@ -87,12 +91,14 @@ def main():
     insulated.BoundaryValues = ["POINTS", "T"]
     insulated.MixedBoundaryConditions = 1
     insulated.BoundaryConditionArray = ["POINTS", "bc"]
+    insulated.ComputeGradient = 1
     insulated.WalksPerPoint = args.walks
     insulated.Seed = args.seed
     insulated.UpdatePipeline()
 
     dirichlet = pvs.WalkOnSpheresSolver(Boundary=temperature, Probe=probe)
     dirichlet.BoundaryValues = ["POINTS", "T"]
+    dirichlet.ComputeGradient = 1
     dirichlet.WalksPerPoint = args.walks
     dirichlet.Seed = args.seed
     dirichlet.UpdatePipeline()
@@ -123,6 +129,21 @@ def main():
     if near and far:
         print(f"mean |T_insulated - T_dirichlet|: {sum(near) / len(near):.3f} degrees near the "
               f"neck, {sum(far) / len(far):.3f} above it")
+    # dT/dz just above the cut (a band 1 to 4 mm above it): heat crossing
+    # it. Insulated, it falls towards 0 at the cut; at a fixed temperature,
+    # it does not. (Points with no gradient, outside the head, have
+    # T_Gradient 0 and a NaN variance.)
+    for name, solved in (("insulated", data), ("Dirichlet", reference)):
+        gradient = solved.GetPointData().GetArray("T_Gradient")
+        variance = solved.GetPointData().GetArray("T_Gradient_Variance")
+        band = [i for i in range(solved.GetNumberOfPoints())
+                if zmin + 1.0 <= solved.GetPoint(i)[2] <= zmin + 4.0
+                and not math.isnan(variance.GetComponent(i, 2))]
+        if band:
+            mean = sum(gradient.GetComponent(i, 2) for i in band) / len(band)
+            error = math.sqrt(sum(variance.GetComponent(i, 2) for i in band)) / len(band)
+            print(f"dT/dz 1-4 mm above the cut, {name}: {mean:+.4f} +- {error:.4f} degrees/mm "
+                  f"(mean of {len(band)} points)")
     sys.stdout.flush()
 
     renamed = pvs.Calculator(Input=dirichlet, ResultArrayName="T_Dirichlet", Function="T")
@@ -137,6 +158,26 @@ def main():
     # outline (white) and the insulated cap (green).
     inside = pvs.Threshold(Input=output, Scalars=["POINTS", "T"],
                            LowerThreshold=-1e30, UpperThreshold=1e30)
+    # The insulated problem's heat flow: lines of T_Gradient within the
+    # slice (ParaView's own tracer, both directions) from every 80th point
+    # inside, and arrows of one length on every 15th, as in the CT workflow.
+    seeds = pvs.MaskPoints(Input=inside, OnRatio=80, MaximumNumberofPoints=100000,
+                           GenerateVertices=1, SingleVertexPerCell=1)
+    streamlines = pvs.StreamTracerWithCustomSource(Input=inside, SeedSource=seeds)
+    streamlines.Vectors = ["POINTS", "T_Gradient"]
+    streamlines.SurfaceStreamlines = 1
+    streamlines.IntegrationDirection = "BOTH"
+    streamlines.MaximumStreamlineLength = zmax - zmin
+    # Arrows of the gradient's part in the slice (its x part points out of
+    # the picture).
+    in_slice = pvs.Calculator(Input=inside, ResultArrayName="T_Gradient_InSlice",
+                              Function="T_Gradient_Y*jHat + T_Gradient_Z*kHat")
+    arrows = pvs.Glyph(Input=in_slice, GlyphType="Arrow")
+    arrows.OrientationArray = ["POINTS", "T_Gradient_InSlice"]
+    arrows.ScaleArray = ["POINTS", "No scale array"]
+    arrows.ScaleFactor = 3.0 * width / max(1, steps)
+    arrows.GlyphMode = "Every Nth Point"
+    arrows.Stride = 15
     cut = [xmid, 0.5 * (ymin + ymax), 0.5 * (zmin + zmax)]
     outlines = []
     for source, colour in ((skin, [1.0, 1.0, 1.0]),
@@ -177,6 +218,11 @@ def main():
         lines.ColorArrayName = ["POINTS", ""]
         lines.AmbientColor = lines.DiffuseColor = [0.3, 0.8, 1.0]
         lines.LineWidth = 1.5
+        if array == "T":
+            for flow, colour in ((streamlines, [0.9, 0.9, 0.9]), (arrows, [0.6, 1.0, 0.6])):
+                shown = Show(flow, view)
+                shown.ColorArrayName = ["POINTS", ""]
+                shown.AmbientColor = shown.DiffuseColor = colour
         for section, colour in outlines:
             outline = Show(section, view)
             outline.ColorArrayName = ["POINTS", ""]

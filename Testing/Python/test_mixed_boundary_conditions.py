@@ -1,8 +1,9 @@
 """Mixed boundary conditions through the solver's VTK API (walk on stars,
 Documentation/WalkOnStars.md): Dirichlet, Neumann and Robin cells of one
 mesh chosen by a condition array, against harmonic closed forms (|z| < 5,
-mean z^2 near 1), also from the sphere cache, and the messages of what
-cannot work."""
+mean z^2 near 1): values, gradients and Hessians, from the sphere cache, the
+stream tracer and the adaptive sampler; and the messages of what cannot
+work."""
 import math
 import os
 import sys
@@ -104,15 +105,21 @@ def cloud(count, half=0.4, outside=()):
     return data
 
 
+def with_conditions(algorithm, boundary):
+    """`algorithm` (solver, stream tracer or sampler) on `boundary` with
+    the box's arrays: values T, conditions bc, flux h, Robin mu."""
+    algorithm.SetBoundaryData(boundary)
+    algorithm.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    algorithm.SetMixedBoundaryConditions(True)
+    algorithm.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
+    algorithm.SetInputArrayToProcess(5, 0, 0, POINTS, "h")
+    algorithm.SetInputArrayToProcess(6, 0, 0, CELLS, "mu")
+    return algorithm
+
+
 def mixed_solver(boundary, probe, walks=128):
-    solver = SOLVER()
-    solver.SetBoundaryData(boundary)
+    solver = with_conditions(SOLVER(), boundary)
     solver.SetProbeData(probe)
-    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
-    solver.SetMixedBoundaryConditions(True)
-    solver.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
-    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h")
-    solver.SetInputArrayToProcess(6, 0, 0, CELLS, "mu")
     solver.SetWalksPerPoint(walks)
     solver.SetSeed(11)
     return solver
@@ -146,19 +153,95 @@ def test_dirichlet_neumann_and_robin_faces_of_a_box():
     assert field(out, "BackFaceHits") == 0
 
 
+def hessian3(x, y, z):
+    return (2.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def component_z_scores(output, name, exact, components):
+    """z of every component `components` of array `name` at every point."""
+    values = output.GetPointData().GetArray(name)
+    variances = output.GetPointData().GetArray(name + "_Variance")
+    scores = []
+    for i in range(output.GetNumberOfPoints()):
+        want = exact(*output.GetPoint(i))
+        for k in components:
+            scores.append((values.GetComponent(i, k) - want[k])
+                          / math.sqrt(variances.GetComponent(i, k)))
+    return scores
+
+
+def test_gradient_and_hessian_with_mixed_conditions():
+    # A first ball clear of every face, then walk on stars: the value, each
+    # gradient component and the Hessian's upper triangle, calibrated.
+    solver = mixed_solver(box(), cloud(120), walks=256)
+    solver.SetComputeGradient(True)
+    solver.SetComputeHessian(True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(out, u3))
+    assert_calibrated(component_z_scores(out, "T_Gradient", grad3, range(3)))
+    assert_calibrated(component_z_scores(out, "T_Hessian", hessian3, (0, 1, 2, 4, 5, 8)))
+    assert field(out, "BackFaceHits") == 0
+
+
+def test_the_stream_tracer_and_adaptive_sampler_take_mixed_conditions():
+    mesh = box()
+    # Lines of grad u = (2x, -2y, 0.5) keep x y constant.
+    tracer = with_conditions(gridfree.vtkWalkOnSpheresStreamTracer(), mesh)
+    tracer.SetSeed(3)
+    seeds = cloud(4, half=0.25)
+    tracer.SetSeedsData(seeds)
+    tracer.SetWalksPerPoint(1024)
+    tracer.SetStepLength(0.03)
+    tracer.SetStepLengthIsRelative(False)
+    tracer.SetMaximumPropagation(0.3)
+    catcher = MessageCatcher(tracer)
+    tracer.Update()
+    assert not catcher.errors, catcher.error_text()
+    lines = tracer.GetOutput()
+    assert lines.GetNumberOfPoints() > 4 * 5
+    seed_ids = lines.GetCellData().GetArray("SeedIds")
+    for cell in range(lines.GetNumberOfCells()):
+        x0, y0, _ = seeds.GetPoint(int(seed_ids.GetValue(cell)))
+        ids = lines.GetCell(cell).GetPointIds()
+        for k in range(ids.GetNumberOfIds()):
+            x, y, _ = lines.GetPoint(ids.GetId(k))
+            assert abs(x * y - x0 * y0) < 0.01, (x * y, x0 * y0)
+    assert_calibrated(z_scores(lines, u3) + component_z_scores(lines, "T_Gradient", grad3, range(3)))
+
+    sampler = with_conditions(gridfree.vtkWalkOnSpheresAdaptiveSampler(), mesh)
+    sampler.SetSeed(3)
+    sampler.SetDomainData(cloud(300))
+    sampler.SetWalksPerPoint(256)
+    sampler.SetInitialSamples(48)
+    sampler.SetMaximumSamples(96)
+    catcher = MessageCatcher(sampler)
+    sampler.Update()
+    assert not catcher.errors, catcher.error_text()
+    samples = sampler.GetOutput()
+    assert samples.GetNumberOfPoints() == 96
+    assert_calibrated(z_scores(samples, u3))
+
+
 def test_the_sphere_cache_answers_mixed_conditions():
     # The spheres keep clear of the whole boundary and their samples walk
-    # on stars: the same box, every inside point from the cache.
+    # on stars: the same box, every inside point from the cache or its shell.
     outside = [(0.9, 0.0, 0.0)]
     solver = mixed_solver(box(), cloud(150, outside=outside), walks=256)
     solver.SetEstimator(SOLVER.SPHERE_CACHE)
     solver.SetWalksPerSphere(256)
+    solver.SetComputeGradient(True)
     catcher = MessageCatcher(solver)
     solver.Update()
     out = solver.GetOutput()
     assert not catcher.errors, catcher.error_text()
     n = out.GetNumberOfPoints()
     assert_calibrated(z_scores(out, u3)[: n - len(outside)])
+    # The gradient too: from the spheres, and in the shell from a first
+    # ball and walks on stars.
+    assert_calibrated(component_z_scores(out, "T_Gradient", grad3, range(3))[: 3 * (n - len(outside))])
     assert field(out, "PointsFromCache") + field(out, "PointsWalkedInShell") == n - len(outside)
     assert field(out, "CacheSpheres") > 0
     assert field(out, "OutsidePoints") == len(outside)
@@ -340,10 +423,6 @@ def test_messages_of_what_cannot_work():
     def no_condition_array(solver, mesh):
         solver.SetInputArrayToProcess(4, 0, 0, CELLS, "")
     assert "no Boundary Condition Array is chosen" in failing_solve(no_condition_array)
-
-    def gradient(solver, mesh):
-        solver.SetComputeGradient(True)
-    assert "Compute Gradient" in failing_solve(gradient)
 
     def biharmonic(solver, mesh):
         solver.SetEquation(SOLVER.BIHARMONIC)

@@ -45,9 +45,8 @@
 // Laplace's and Poisson's equations (volume sources) on a closed mesh, in
 // 2D and 3D, with Dirichlet conditions, or with Neumann or Robin parts:
 // then the spheres keep clear of the whole boundary (WholeBoundary.h) and
-// their samples' walks are walks on stars (the problem's own estimator),
-// which give values only, so the shell's points get no gradient from
-// pointwise walks.
+// their samples' walks are walks on stars (the problem's own estimator);
+// the shell's points take their derivatives from StarDerivativeWalks.h.
 #ifndef GRIDFREE_CACHE_SPHERE_CACHE_H
 #define GRIDFREE_CACHE_SPHERE_CACHE_H
 

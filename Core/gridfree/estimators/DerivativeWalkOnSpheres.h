@@ -41,6 +41,12 @@
 // derivatives are estimated one-sidedly at the point 2ε (4ε, … if needed)
 // from the closest point along the direction to x0 (a primitive's normal
 // when x0 lies on the boundary), and reported as DerivativeStatus::OneSided.
+//
+// Nothing above needs the walk that continues from x1 to be walk on spheres:
+// only that it returns an unbiased û(x1) and that B0 lies where the equation
+// holds. The walks that continue are the `Continuation` (the plain walk,
+// SphereWalkContinuation below, or walk on stars with R0 the distance to the
+// whole boundary: StarDerivativeWalks.h).
 #ifndef GRIDFREE_ESTIMATORS_DERIVATIVE_WALK_ON_SPHERES_H
 #define GRIDFREE_ESTIMATORS_DERIVATIVE_WALK_ON_SPHERES_H
 
@@ -110,15 +116,73 @@ struct SampleLayout
   int Size = 0;
 };
 
+// The plain walk on spheres as what continues from the first ball: the
+// boundary's distance, closest points and values, and its walks.
 template <int DIM>
+class SphereWalkContinuation
+{
+public:
+  using BoundaryType = Boundary<DIM>;
+  // The screened walk's weight has a slot of its own (SampleLayout::Weight).
+  static constexpr bool kWeightSlot = true;
+
+  SphereWalkContinuation(const Boundary<DIM>& boundary, const WalkSettings& settings,
+    VolumeSource<DIM>* volume, const ConcentratedSourceSet<DIM>& concentrated)
+    : Geometry(boundary)
+    , Walker(boundary, settings, volume, concentrated)
+  {
+  }
+
+  int Components() const { return this->Geometry.Components(); }
+  double Diagonal() const { return this->Geometry.Diagonal(); }
+  double Distance(const Vec<DIM>& x) const { return this->Geometry.Distance(x); }
+
+  // The closest boundary point of x and, for a point on the boundary, the
+  // direction to move in: the primitive's normal (either side may be the
+  // domain). False when there is none.
+  bool ClosestPoint(const Vec<DIM>& x, Vec<DIM>& point, Vec<DIM>& normal) const
+  {
+    const auto hit = this->Geometry.ClosestPoint(x);
+    if (hit.primitive < 0)
+    {
+      return false;
+    }
+    point = hit.point;
+    normal = this->Geometry.Normal(hit);
+    return true;
+  }
+
+  // g at the closest point of x: the control variates' first constant.
+  void Pilot(const Vec<DIM>& x, double* out) const
+  {
+    this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x), out);
+  }
+
+  double EscapeRadius(const Vec<DIM>& x0) const { return this->Walker.EscapeRadius(x0); }
+  WalkEnd Walk(const Vec<DIM>& x, double escapeRadius, RandomStream& rng, double* sample,
+    int& steps, std::uint64_t& returns)
+  {
+    return this->Walker.Walk(x, escapeRadius, rng, sample, steps, returns);
+  }
+  double LastWeight() const { return this->Walker.LastWeight(); }
+  bool SourceSupportIsBounded() const { return this->Walker.SourceSupportIsBounded(); }
+
+private:
+  const Boundary<DIM>& Geometry;
+  WalkOnSpheresEstimator<DIM> Walker;
+};
+
+template <int DIM, class Continuation = SphereWalkContinuation<DIM>>
 class DerivativeWalkOnSpheres
 {
 public:
-  DerivativeWalkOnSpheres(const Boundary<DIM>& boundary, const WalkSettings& settings,
-    const DerivativeRequest& request, VolumeSource<DIM>* volume = nullptr,
+  using BoundaryType = typename Continuation::BoundaryType;
+
+  DerivativeWalkOnSpheres(const typename Continuation::BoundaryType& boundary,
+    const WalkSettings& settings, const DerivativeRequest& request,
+    VolumeSource<DIM>* volume = nullptr,
     const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>())
-    : Geometry(boundary)
-    , Settings(settings)
+    : Settings(settings)
     , Request(request)
     , Walker(boundary, settings, volume, concentrated)
     , Nc(settings.Problem == Equation::Biharmonic ? boundary.Components() / 2
@@ -172,7 +236,7 @@ public:
       l.SourceMean = next;
       next += this->Nc;
     }
-    if (settings.Problem == Equation::ScreenedPoisson)
+    if (settings.Problem == Equation::ScreenedPoisson && Continuation::kWeightSlot)
     {
       l.Weight = next;
       next += 1;
@@ -195,6 +259,8 @@ public:
   const SampleLayout& Layout() const { return this->Slots; }
   bool SourceSupportIsBounded() const { return this->Walker.SourceSupportIsBounded(); }
   int SolutionComponents() const { return this->Nc; }
+  // The walks that continue from the first ball (their own counters).
+  const Continuation& Continuations() const { return this->Walker; }
 
   // The control variates of a walk use the running means of the walks
   // before it in its block of kControlBlock walks (walks 0–255, 256–511, …),
@@ -237,7 +303,7 @@ public:
     const std::uint64_t key = PointKey(seed, probeXYZ);
 
     Vec<DIM> centre = x0;
-    double radius = this->Geometry.Distance(x0);
+    double radius = this->Walker.Distance(x0);
     DerivativeStatus status = DerivativeStatus::Interior;
     if (!(radius >= this->Settings.Epsilon))
     {
@@ -268,20 +334,20 @@ public:
 private:
   DerivativeStatus FindOneSidedCentre(const Vec<DIM>& x0, Vec<DIM>& centre, double& radius) const
   {
-    const auto hit = this->Geometry.ClosestPoint(x0);
-    if (hit.primitive < 0)
+    Vec<DIM> closest, normal;
+    if (!this->Walker.ClosestPoint(x0, closest, normal))
     {
       return DerivativeStatus::Unavailable;
     }
-    Vec<DIM> direction = x0 - hit.point;
+    Vec<DIM> direction = x0 - closest;
     const double length = direction.norm();
-    if (length > 1e-12 * std::max(1.0, this->Geometry.Diagonal()))
+    if (length > 1e-12 * std::max(1.0, this->Walker.Diagonal()))
     {
       direction /= length;
     }
     else
     {
-      direction = this->Geometry.Normal(hit);
+      direction = normal;
       if (direction.squaredNorm() == 0.0)
       {
         return DerivativeStatus::Unavailable;
@@ -290,8 +356,8 @@ private:
     double offset = 2.0 * this->Settings.Epsilon;
     for (int attempt = 0; attempt < 8; ++attempt, offset *= 2.0)
     {
-      centre = hit.point + offset * direction;
-      radius = this->Geometry.Distance(centre);
+      centre = closest + offset * direction;
+      radius = this->Walker.Distance(centre);
       if (radius >= this->Settings.Epsilon)
       {
         return DerivativeStatus::OneSided;
@@ -335,7 +401,7 @@ private:
     // walks keeps the controls unbiased, and this one is usually close.
     if (available)
     {
-      this->Geometry.Evaluate(centre, this->Geometry.ClosestPoint(centre), this->Pilot.data());
+      this->Walker.Pilot(centre, this->Pilot.data());
     }
 
     RunningStatistics& history = this->History;
@@ -540,10 +606,9 @@ private:
     this->Sample[l.Curl + 2] = jacobian(1, 0) - jacobian(0, 1);
   }
 
-  const Boundary<DIM>& Geometry;
   WalkSettings Settings;
   DerivativeRequest Request;
-  WalkOnSpheresEstimator<DIM> Walker;
+  Continuation Walker;
   int Nc;
   SourceIntegrator<DIM> Sources;
   SourceDerivativeIntegrator<DIM> DerivativeSources;

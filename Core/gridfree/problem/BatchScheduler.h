@@ -16,6 +16,7 @@
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/problem/Batch.h>
 #include <gridfree/problem/PointWalks.h>
+#include <gridfree/stars/StarDerivativeWalks.h>
 #include <gridfree/stars/WalkOnStars.h>
 #include <gridfree/statistics/RunningStatistics.h>
 #include <gridfree/statistics/RunningSumsCache.h>
@@ -207,6 +208,15 @@ private:
   bool WithEstimator(RunWith&& run)
   {
     auto volume = this->P.MakeVolume();
+    if (this->DerivativeWalks && this->P.Mixed)
+    {
+      StarDerivativeWalks<DIM> estimator(*this->P.Mixed, this->P.Walk, this->Request.Derivatives,
+        volume.get(), this->P.Concentrated());
+      run(estimator);
+      this->BackFaceHits.fetch_add(
+        estimator.Continuations().BackFaceHits(), std::memory_order_relaxed);
+      return estimator.SourceSupportIsBounded();
+    }
     if (this->DerivativeWalks)
     {
       DerivativeWalkOnSpheres<DIM> estimator(*this->P.Shape, this->P.Walk,

@@ -21,6 +21,7 @@
 #include <gridfree/problem/Batch.h>
 #include <gridfree/problem/BatchScheduler.h>
 #include <gridfree/sources/SourceSet.h>
+#include <gridfree/stars/StarDerivativeWalks.h>
 #include <gridfree/stars/WalkOnStars.h>
 #include <gridfree/statistics/ErrorBarReliability.h>
 #include <gridfree/statistics/RunningStatistics.h>
@@ -60,8 +61,8 @@ public:
   }
 
   // A problem with Neumann or Robin conditions on part of the boundary,
-  // solved by walk on stars (WalkOnStars.h): value batches only (a request
-  // for derivatives throws std::invalid_argument). Also throws for what
+  // solved by walk on stars (WalkOnStars.h; derivatives: a first ball in
+  // the domain, then walk on stars, StarDerivativeWalks.h). Throws for what
   // walk on stars cannot solve (the biharmonic equation; Neumann
   // conditions alone without screening).
   Problem(std::shared_ptr<const MixedBoundary<DIM>> mixed, const WalkSettings& settings,
@@ -127,8 +128,10 @@ public:
   {
     if (request.DerivativeWalks() && this->Mixed)
     {
-      throw std::invalid_argument(
-        "derivatives are not estimated with Neumann or Robin conditions (walk on stars) yet");
+      auto volume = this->MakeVolume();
+      return StarDerivativeWalks<DIM>(
+        *this->Mixed, this->Walk, request.Derivatives, volume.get(), this->Concentrated())
+        .Layout();
     }
     if (request.DerivativeWalks())
     {

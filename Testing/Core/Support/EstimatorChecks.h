@@ -246,23 +246,24 @@ struct DerivativeRun
   int Size = 0;
 };
 
-template <int DIM>
-DerivativeRun RunDerivativeEstimator(const Boundary<DIM>& boundary, const WalkSettings& settings,
+// Estimator: DerivativeWalkOnSpheres<DIM> or another continuation of it
+// (StarDerivativeWalks<DIM> with a MixedBoundary).
+template <int DIM, class Estimator = DerivativeWalkOnSpheres<DIM>>
+DerivativeRun RunDerivativeEstimator(const typename Estimator::BoundaryType& boundary,
+  const WalkSettings& settings,
   const DerivativeRequest& request, const std::vector<Vec<DIM>>& points, int walks,
   std::uint64_t seed, VolumeSource<DIM>* volume = nullptr,
   const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>(),
   int threads = 2)
 {
   DerivativeRun run;
-  run.Size = DerivativeWalkOnSpheres<DIM>(boundary, settings, request, volume, concentrated)
-               .Layout()
-               .Size;
+  run.Size = Estimator(boundary, settings, request, volume, concentrated).Layout().Size;
   run.Mean.resize(points.size() * run.Size);
   run.Variance.resize(points.size() * run.Size);
   run.Status.resize(points.size());
   ParallelForWithProgress(points.size(), threads,
     [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
-      DerivativeWalkOnSpheres<DIM> estimator(boundary, settings, request, volume, concentrated);
+      Estimator estimator(boundary, settings, request, volume, concentrated);
       RunningStatistics stats(run.Size);
       WalkCounters counters;
       for (std::size_t i = begin; i < end; ++i)

@@ -367,7 +367,8 @@ TEST(Problem, TargetChangeContinuesWhereItCan)
 
 // Walk on stars through the problem: a mixed 3D problem's batch is calibrated, and
 // gives the same bits on 1 and 2 threads, with points spread over threads
-// (many points) and with one point's walks spread in blocks (one point).
+// (many points) and with one point's walks spread in blocks (one point),
+// values and derivatives.
 TEST(Problem, WalkOnStarsBatchesAreCalibratedAndThreadIndependent)
 {
   const Shape<3> l = LPrism();
@@ -403,8 +404,19 @@ TEST(Problem, WalkOnStarsBatchesAreCalibratedAndThreadIndependent)
   const std::vector<std::array<double, 3>> single(probe.begin(), probe.begin() + 1);
   onTwoAndOneThreads(single, 640);
 
+  // Derivative batches (a first ball, then walks on stars): the same bits
+  // too, one point's walks crossing control blocks; the gradient near ∇u.
   request.Derivatives.Gradient = true;
-  EXPECT_THROW(problem.EstimateAll(single, request), std::invalid_argument);
+  const SampleLayout layout = problem.Layout(request);
+  ASSERT_GE(layout.Gradient, 0);
+  EXPECT_EQ(layout.Weight, -1);
+  const BatchEstimates derivatives = onTwoAndOneThreads(single, 640);
+  const Vec3 exact = LPrismGradient(points[0]);
+  for (int k = 0; k < 3; ++k)
+  {
+    const std::size_t at = static_cast<std::size_t>(layout.Gradient + k);
+    EXPECT_LT(std::abs(derivatives.Means[at] - exact[k]), 5.0 * std::sqrt(derivatives.Variances[at]));
+  }
   WalkSettings biharmonic = Laplace(1e-4);
   biharmonic.Problem = Equation::Biharmonic;
   EXPECT_THROW(Problem<3>(mixed, biharmonic), std::invalid_argument);
