@@ -24,7 +24,9 @@
 //   walks would otherwise take ever smaller steps).
 // - Direction v uniform on the sphere; on the Neumann part, in the inward
 //   hemisphere (density 2/|S|, which cancels 1/α).
-// - x_{k+1}: the first Neumann point on the ray within R, else x_k + R v.
+// - x_{k+1}: the first Neumann point on the ray within R, else x_k + R v,
+//   x_k taken where the ray starts (moved 1e-9 of the boundary's diagonal
+//   off the Neumann part it lies on).
 //   The walk's weight is multiplied by Q(r) (StarKernels.h, WoSt-4): 1 for
 //   Δ, the screened kernel's ratio for Δ − c.
 // - The flux term: one point z on the Neumann part in the ball
@@ -264,7 +266,11 @@ private:
         }
         else
         {
-          x += radius * v;
+          // From the point the ray was traced from: from x itself, a ray
+          // that grazes a neighbouring primitive may cross it within the
+          // radius where the traced one, Offset below, crosses beyond it,
+          // and the walk would leave the domain (seen as back-face hits).
+          x = origin + radius * v;
           onNeumann = false;
           if constexpr (screened)
           {
