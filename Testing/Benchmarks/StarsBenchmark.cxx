@@ -10,9 +10,15 @@
 // the bottom and back faces Dirichlet; and the unit icosphere of 20,480
 // triangles, Dirichlet below z = 0.
 //
+// Each Neumann problem is also solved for the gradient (a first ball clear
+// of the whole boundary, then walk on stars: StarDerivativeWalks.h, with
+// its control variates).
+//
 // Configured with GRIDFREE_ZOMBIE_SOURCE_DIR (and FCPW, PCG32), the authors'
-// walk on stars solves each Neumann problem too, in the same run
-// (ZombieStarsRows.h).
+// walk on stars solves each Neumann problem (value and gradient) and each
+// Robin problem too, in the same run (ZombieStarsRows.h), and a second
+// table compares the two at equal error: time × MSE, the time each would
+// take to reach the same RMSE (RMSE² falls like 1/walks).
 //
 //   GridFreeStarsBenchmark [walks per point] [points]
 #include "BenchmarkRows.h"
@@ -22,6 +28,7 @@
 #include "MixedShapes.h"
 #include "TestMeshes.h"
 #include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/stars/StarDerivativeWalks.h>
 #include <gridfree/stars/WalkOnStars.h>
 #include <gridfree/statistics/RunningStatistics.h>
 
@@ -57,10 +64,11 @@ Row Run(const std::string& name, double setup, Estimator& estimator,
 }
 
 #ifdef GRIDFREE_WITH_ZOMBIE
-// The same Neumann problem solved by the authors' library (float, fcpw).
+// The same Neumann (or, with `robin`, Robin) problem solved by the
+// authors' library (float, fcpw), for the value or value and gradient.
 Row ZombieRow(const std::string& name, const SimplexMesh<3>& mesh,
   const std::function<bool(const Vec3&)>& isDirichlet, const std::vector<Vec3>& points, int walks,
-  const WalkSettings& settings)
+  const WalkSettings& settings, bool gradient = false, const RobinRule<3>& robin = nullptr)
 {
   using Point = std::array<double, 3>;
   auto vec = [](const Point& p) { return Vec3(p[0], p[1], p[2]); };
@@ -76,26 +84,34 @@ Row ZombieRow(const std::string& name, const SimplexMesh<3>& mesh,
     const Vec3 g = ExactGradient(vec(x));
     return Point{ g[0], g[1], g[2] };
   };
+  if (robin)
+  {
+    problem.Robin = [&](const Point& x) { return robin(vec(x)); };
+  }
   std::vector<Point> at;
   for (const Vec3& p : points)
   {
     at.push_back(Point{ p[0], p[1], p[2] });
   }
   const ZombieResult r =
-    RunZombieWalkOnStars(problem, at, walks, settings.Epsilon, settings.MaxSteps);
+    RunZombieWalkOnStars(problem, at, walks, settings.Epsilon, settings.MaxSteps, gradient);
   Row row;
   row.Name = name;
   row.SetupSeconds = r.SetupSeconds;
   row.WalksPerSecond = r.WalksPerSecond;
   row.StepsPerWalk = r.StepsPerWalk;
   row.Rmse = r.Rmse;
+  row.GradientRmse = gradient ? r.GradientRmse : -1.0;
+  row.Points = static_cast<int>(points.size());
+  row.Walks = walks;
   return row;
 }
 #endif
 
-// The three solves of one domain: all Dirichlet by walk on spheres and by
-// walk on stars, then with the reflecting part `robin` decides (μ = 0:
-// Neumann) on the primitives `isDirichlet` leaves.
+// The solves of one domain: all Dirichlet by walk on spheres and by walk on
+// stars, then with the reflecting part `robin` decides (μ = 0: Neumann) on
+// the primitives `isDirichlet` leaves: Neumann (value, then gradient) and
+// Robin.
 std::vector<Row> Domain(const std::string& name, const SimplexMesh<3>& mesh,
   const std::function<bool(const Vec3&)>& isDirichlet, const RobinRule<3>& robin,
   const std::vector<Vec3>& points, int walks)
@@ -120,12 +136,35 @@ std::vector<Row> Domain(const std::string& name, const SimplexMesh<3>& mesh,
   rows.push_back(ZombieRow(name + ", Neumann part: zombie (fcpw)", mesh, isDirichlet, points,
     walks, settings));
 #endif
+  // The gradient with control variates, without and with antithetic pairs
+  // (zombie's defaults use both; a pair's two walks count as one sample).
+  for (const bool pairs : { false, true })
+  {
+    DerivativeRequest request;
+    request.Gradient = true;
+    request.AntitheticPairs = pairs;
+    StarDerivativeWalks<3> gradient(neumann, settings, request);
+    Row row = RunGradientEstimator(name +
+        (pairs ? ", Neumann part, gradient: walk on stars"
+               : ", Neumann part, gradient without antithetic pairs: walk on stars"),
+      gradient, points, walks, Exact, ExactGradient);
+    row.SetupSeconds = setup;
+    rows.push_back(row);
+  }
+#ifdef GRIDFREE_WITH_ZOMBIE
+  rows.push_back(ZombieRow(name + ", Neumann part, gradient: zombie (fcpw)", mesh, isDirichlet,
+    points, walks, settings, true));
+#endif
   start = std::chrono::steady_clock::now();
   const MixedBoundary<3> mixedRobin =
     MakeMixed<3>(mesh, isDirichlet, Exact, ExactGradient, true, 1.0, robin);
   setup = SecondsSince(start);
   WalkOnStarsEstimator<3> starsRobin(mixedRobin, settings);
   rows.push_back(Run(name + ", Robin part: walk on stars", setup, starsRobin, points, walks));
+#ifdef GRIDFREE_WITH_ZOMBIE
+  rows.push_back(ZombieRow(name + ", Robin part: zombie (fcpw)", mesh, isDirichlet, points,
+    walks, settings, false, robin));
+#endif
   return rows;
 }
 } // namespace
@@ -164,8 +203,8 @@ int main(int argc, char* argv[])
 
   std::printf("Walk on stars against walk on spheres: %d points x %d walks, one thread, "
               "epsilon 1e-4\n\n", count, walks);
-  std::printf("| domain and solver | set-up s | walks/s | steps/walk | RMSE | time per walk / walk on spheres |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|\n");
+  std::printf("| domain and solver | set-up s | walks/s | steps/walk | RMSE | gradient RMSE | time per walk / walk on spheres |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
   double reference = 0.0;
   for (const Row& r : rows)
   {
@@ -173,8 +212,48 @@ int main(int argc, char* argv[])
     {
       reference = r.WalksPerSecond;
     }
-    std::printf("| %s | %.3f | %.0f | %.1f | %.2e | %.2f |\n", r.Name.c_str(), r.SetupSeconds,
-      r.WalksPerSecond, r.StepsPerWalk, r.Rmse, reference / r.WalksPerSecond);
+    char gradient[32] = "";
+    if (r.GradientRmse >= 0.0)
+    {
+      std::snprintf(gradient, sizeof(gradient), "%.2e", r.GradientRmse);
+    }
+    std::printf("| %s | %.3f | %.0f | %.1f | %.2e | %s | %.2f |\n", r.Name.c_str(),
+      r.SetupSeconds, r.WalksPerSecond, r.StepsPerWalk, r.Rmse, gradient,
+      reference / r.WalksPerSecond);
+  }
+
+  // At equal error: each zombie row against the row of ours before it with
+  // the same problem (its name with "zombie (fcpw)" for "walk on stars").
+  const std::string theirs = "zombie (fcpw)", ours = "walk on stars";
+  bool header = false;
+  for (const Row& z : rows)
+  {
+    const std::size_t at = z.Name.find(theirs);
+    if (at == std::string::npos)
+    {
+      continue;
+    }
+    const std::string match = z.Name.substr(0, at) + ours;
+    for (const Row& r : rows)
+    {
+      if (r.Name != match)
+      {
+        continue;
+      }
+      if (!header)
+      {
+        std::printf("\nAt equal error: seconds × MSE (of the gradient where estimated), the "
+                    "time each needs for the same RMSE\n\n");
+        std::printf("| problem | ours: s × MSE | zombie: s × MSE | zombie / ours |\n");
+        std::printf("|---|---:|---:|---:|\n");
+        header = true;
+      }
+      const bool g = r.GradientRmse >= 0.0 && z.GradientRmse >= 0.0;
+      const double e1 = g ? r.GradientRmse : r.Rmse, e2 = g ? z.GradientRmse : z.Rmse;
+      const double mine = r.Seconds() * e1 * e1, yours = z.Seconds() * e2 * e2;
+      std::printf("| %s | %.3e | %.3e | %.2f |\n", z.Name.substr(0, at - 2).c_str(), mine,
+        yours, yours / mine);
+    }
   }
   return 0;
 }

@@ -18,7 +18,8 @@ namespace gridfree
 namespace bench
 {
 // A mixed Laplace problem on a triangle mesh: the triangles `isDirichlet`
-// picks (by centroid) hold u = exact, the others the Neumann flux ∇u·n.
+// picks (by centroid) hold u = exact, the others the flux ∇u·n + μu with μ
+// = Robin(x) (empty: 0, Neumann) at each point x of them.
 struct ZombieProblem
 {
   std::vector<std::array<double, 3>> Vertices;
@@ -26,6 +27,7 @@ struct ZombieProblem
   std::function<bool(const std::array<double, 3>&)> IsDirichlet;
   std::function<double(const std::array<double, 3>&)> Exact;
   std::function<std::array<double, 3>(const std::array<double, 3>&)> Gradient;
+  std::function<double(const std::array<double, 3>&)> Robin;
 };
 
 struct ZombieResult
@@ -33,15 +35,20 @@ struct ZombieResult
   double SetupSeconds = 0.0; // the hierarchies and the silhouettes
   double WalksPerSecond = 0.0;
   double StepsPerWalk = 0.0;
-  double Rmse = 0.0; // against Exact over the points
+  double Rmse = 0.0;         // against Exact over the points
+  double GradientRmse = 0.0; // |∇u estimate − Gradient|, when asked for
 };
 
 // zombie's WalkOnStars<float, 3>, one thread, `walks` walks at every point,
 // ε = `epsilon` for both of its ε-shells, at most `maxSteps` steps per walk,
 // n the normal zombie hands over; pcg32 streams seeded per point so that
-// runs repeat (zombie seeds from the clock by default).
+// runs repeat (zombie seeds from the clock by default). With `gradient`,
+// its solution-and-gradient estimator with its default control and
+// antithetic variates. With a Robin rule, its Robin hierarchy with each
+// triangle's μ (at its centroid) as the bounds of its Robin radius.
 ZombieResult RunZombieWalkOnStars(const ZombieProblem& problem,
-  const std::vector<std::array<double, 3>>& points, int walks, double epsilon, int maxSteps);
+  const std::vector<std::array<double, 3>>& points, int walks, double epsilon, int maxSteps,
+  bool gradient = false);
 } // namespace bench
 } // namespace gridfree
 
