@@ -25,6 +25,7 @@
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/geometry/RayParity.h>
 #include <gridfree/stars/ReflectingBoundarySampler.h>
+#include <gridfree/stars/RobinRadius.h>
 #include <gridfree/stars/SilhouetteTree.h>
 
 #include <algorithm>
@@ -155,6 +156,7 @@ public:
     this->Normals.clear();
     this->Silhouette = SilhouetteTree<DIM>();
     this->Sampler = ReflectingBoundarySampler<DIM>();
+    this->RobinBounds = RobinRadiusTree<DIM>();
     BoundingBox<DIM> box;
     if (hasD)
     {
@@ -177,6 +179,10 @@ public:
       }
       box.Expand(this->ReflectingPart->BoundsMin());
       box.Expand(this->ReflectingPart->BoundsMax());
+      if (this->AnyRobin)
+      {
+        this->RobinBounds.Build(this->Sampler, this->Robin, this->Normals);
+      }
     }
     this->Box = box;
     this->ParityGap = 1e-9 * box.Diagonal();
@@ -237,41 +243,11 @@ public:
   }
 
   // The largest radius <= R at which every Robin point z of the star keeps
-  // the walk's weight 1 − μ|S| G(r) r^{n−1}/(n·v) >= 0 for Δ (WalkOnStars.md
-  // §1, WoSt-7). With h the distance from x to a primitive's plane, n·v =
-  // h/r, and max over r < R of r²(1 − r/R) is 4R²/27 (3D), of r² ln(R/r)
-  // R²/(2e) (2D): so R <= sqrt(27h/(4μ)) (3D), sqrt(2e h/μ) (2D) for each
-  // Robin primitive nearer than R, unless the primitive lies beyond R.
+  // the walk's weight >= 0 for Δ (WoSt-7; RobinRadius.h).
   double RobinRadius(const Vec<DIM>& x, double R) const
   {
-    if (!this->AnyRobin)
-    {
-      return R;
-    }
-    double radius = R;
-    const auto& vertices = this->ReflectingPart->MeshVertices();
-    const auto& prims = this->ReflectingPart->MeshPrimitives();
-    const double c = DIM == 3 ? 27.0 / 4.0 : 2.0 * M_E;
-    this->Sampler.VisitWithin(x, radius, [&](std::int64_t prim) {
-      const double mu = this->Robin[static_cast<std::size_t>(prim)];
-      if (!(mu > 0.0))
-      {
-        return;
-      }
-      const Vec<DIM>& p0 = vertices[static_cast<std::size_t>(prims[static_cast<std::size_t>(prim)][0])];
-      const double h = std::abs((x - p0).dot(this->Normals[static_cast<std::size_t>(prim)]));
-      const double bound2 = c * h / mu;
-      if (!(bound2 < radius * radius))
-      {
-        return; // the plane is far enough: this primitive cannot shrink the radius
-      }
-      const double d2 = this->Sampler.SquaredDistance(prim, x);
-      if (d2 < radius * radius)
-      {
-        radius = std::min(radius, std::sqrt(std::max(d2, bound2)));
-      }
-    });
-    return radius;
+    return this->AnyRobin ? this->RobinBounds.Radius(this->Sampler, this->Robin, this->Normals, x, R)
+                          : R;
   }
 
   // Unit outward normal of a primitive of the reflecting part.
@@ -289,6 +265,7 @@ private:
   std::shared_ptr<const Boundary<DIM>> ReflectingPart;
   SilhouetteTree<DIM> Silhouette;
   ReflectingBoundarySampler<DIM> Sampler;
+  RobinRadiusTree<DIM> RobinBounds;
   std::vector<Vec<DIM>> Normals;
   std::vector<double> Robin; // μ per reflecting primitive (empty: none)
   double ParityGap = 0.0;

@@ -157,6 +157,14 @@ public:
   template <class Visit>
   void VisitWithin(const Vec<DIM>& x, double& radius, const Visit& visit) const
   {
+    this->VisitWithin(x, radius, visit, [](std::uint32_t) { return false; });
+  }
+
+  // The same, leaving out every subtree whose node `skip(node index)`
+  // rules out (a bound on what its primitives could do: RobinRadius.h).
+  template <class Visit, class Skip>
+  void VisitWithin(const Vec<DIM>& x, double& radius, const Visit& visit, const Skip& skip) const
+  {
     if (this->Nodes.empty())
     {
       return;
@@ -166,8 +174,9 @@ public:
     stack[top++] = 0;
     while (top > 0)
     {
-      const Node& node = this->Nodes[stack[--top]];
-      if (!(node.Box.SquaredDistance(x) < radius * radius))
+      const std::uint32_t index = stack[--top];
+      const Node& node = this->Nodes[index];
+      if (!(node.Box.SquaredDistance(x) < radius * radius) || skip(index))
       {
         continue;
       }
@@ -181,6 +190,29 @@ public:
       }
       PushNearerChildLast<DIM>(this->Nodes, node.Left, x, stack, top);
     }
+  }
+
+  // The hierarchy's nodes, for summaries of their subtrees kept elsewhere
+  // (indexed as the nodes; a child's index exceeds its parent's, so a pass
+  // from the last node to the first meets children first): visit(index,
+  // box, first, last) with the primitives under the node, first .. last − 1.
+  std::size_t NodeCount() const { return this->Nodes.size(); }
+  template <class Visit>
+  void ForEachNode(const Visit& visit) const
+  {
+    for (std::size_t i = 0; i < this->Nodes.size(); ++i)
+    {
+      const Node& node = this->Nodes[i];
+      const std::int64_t* first = this->Order.data() + node.First;
+      visit(static_cast<std::uint32_t>(i), node.Box, first, first + node.Span);
+    }
+  }
+
+  // The first vertex of a primitive (a point of its plane).
+  const Vec<DIM>& FirstVertex(std::int64_t prim) const
+  {
+    return this->Vertices[static_cast<std::size_t>(
+      this->Primitives[static_cast<std::size_t>(prim)][0])];
   }
 
   // Squared distance from x to a primitive.
@@ -218,6 +250,7 @@ private:
     std::uint32_t Left = 0;  // children Left, Left + 1 (inner node)
     std::uint32_t First = 0; // Order[First .. First + Count − 1] (leaf)
     std::uint32_t Count = 0;
+    std::uint32_t Span = 0;  // primitives under the node: Order[First .. First + Span − 1]
   };
   static constexpr std::uint32_t kLeafSize = 4;
 
@@ -288,6 +321,8 @@ private:
   {
     Node node;
     node.Parent = parent;
+    node.First = first;
+    node.Span = count;
     BoundingBox<DIM> centroids;
     for (std::uint32_t i = first; i < first + count; ++i)
     {
