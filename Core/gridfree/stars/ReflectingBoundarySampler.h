@@ -208,6 +208,37 @@ public:
     }
   }
 
+  // 3D: a point of the plane of triangle `prim` (x lies on it) with density
+  // 1/(2π R r) per unit area at distance r < R from x: an angle uniform in
+  // the plane and r uniform in [0, R). False for a degenerate triangle.
+  // Drawn this way, a term G(r) h / pdf stays bounded as r → 0 (G ~ 1/r),
+  // where drawing by area leaves it unbounded (WalkOnStars.h, flux term).
+  bool SampleInPlane(
+    const Vec<DIM>& x, std::int64_t prim, double R, RandomStream& rng, Vec<DIM>& y) const
+  {
+    static_assert(DIM == 3, "plane sampling is for triangles");
+    const Primitive& p = this->Primitives[static_cast<std::size_t>(prim)];
+    const Vec<DIM>& a = this->Vertices[static_cast<std::size_t>(p[0])];
+    const Vec<DIM> e1 = this->Vertices[static_cast<std::size_t>(p[1])] - a;
+    const Vec<DIM> normal = e1.cross(this->Vertices[static_cast<std::size_t>(p[2])] - a);
+    if (!(normal.squaredNorm() > 0.0))
+    {
+      return false;
+    }
+    const Vec<DIM> t1 = e1.normalized();
+    const Vec<DIM> t2 = normal.cross(e1).normalized();
+    const double angle = 2.0 * M_PI * rng.NextDouble();
+    const double r = R * rng.NextDouble();
+    y = x + r * (std::cos(angle) * t1 + std::sin(angle) * t2);
+    return true;
+  }
+
+  // SampleInPlane's density at distance r from x.
+  static double NearPdf(double R, double r)
+  {
+    return r > 0.0 && r < R ? 1.0 / (2.0 * M_PI * R * r) : 0.0;
+  }
+
   // The first vertex of a primitive (a point of its plane).
   const Vec<DIM>& FirstVertex(std::int64_t prim) const
   {

@@ -31,7 +31,11 @@
 //   Δ, the screened kernel's ratio for Δ − c.
 // - The flux term: one point z on the Neumann part in the ball
 //   (ReflectingBoundarySampler.h), kept if x_k sees it, weight G(|z − x_k|)
-//   h(z) / (α pdf(z)) (WoSt-3).
+//   h(z) / (α pdf(z)) (WoSt-3). In 3D, on the Neumann part, z is drawn half
+//   the time by area over the hierarchy and half the time in the plane of
+//   x_k's triangle with density ∝ 1/r (SampleInPlane; kept where the plane
+//   holds Neumann triangles), pdf the mixture's: the weight then stays
+//   bounded where G ~ 1/r on that plane, and so does its variance.
 // - The source term: the walk-on-spheres sampler of the ball (SourceTerms.h)
 //   with every sample y outside St (hidden from x_k, or behind the Neumann
 //   part x_k lies on) given weight 0, the others 1/α; minus sign as in
@@ -172,6 +176,7 @@ private:
     std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
     double weight = 1.0;
     bool onNeumann = false;
+    std::int64_t onPrimitive = -1; // the Neumann primitive x lies on
     Vec<DIM> n = Vec<DIM>::Zero();
     WalkEnd end = WalkEnd::Boundary;
     bool hasValue = true;
@@ -234,7 +239,8 @@ private:
 
       if (hasN)
       {
-        this->AddFluxTerm(x, origin, onNeumann, n, radius, green, alphaInverse * weight, rng);
+        this->AddFluxTerm(
+          x, origin, onNeumann, n, onPrimitive, radius, green, alphaInverse * weight, rng);
         const RayHit<DIM> hit = b.Reflecting().Hierarchy().Intersect(origin, v, radius);
         if (hit.Hit() && hit.t < radius)
         {
@@ -263,6 +269,7 @@ private:
           x = hit.point;
           n = normal;
           onNeumann = true;
+          onPrimitive = hit.primitive;
         }
         else
         {
@@ -321,14 +328,34 @@ private:
   }
 
   // Adds factor · G(|z − x|) h(z) / pdf(z) for one point z of the Neumann
-  // part in the ball that x sees (WoSt-3); nothing when none is drawn.
+  // part in the ball that x sees (WoSt-3); nothing when none is drawn. On
+  // the Neumann part in 3D (x on primitive `onPrimitive`), z comes from an
+  // even mixture of the hierarchy's sampling and SampleNear on that
+  // primitive, and pdf is the mixture's (one-sample, balance heuristic).
   template <class Green>
   void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
-    double radius, const Green& green, double factor, RandomStream& rng)
+    std::int64_t onPrimitive, double radius, const Green& green, double factor, RandomStream& rng)
   {
     const MixedBoundary<DIM>& b = this->Geometry;
+    const ReflectingBoundarySampler<DIM>& sampler = b.FluxSampler();
+    const bool mixture = DIM == 3 && onNeumann && onPrimitive >= 0;
     BoundarySample<DIM> z;
-    if (!b.FluxSampler().Sample(x, radius, rng, z))
+    bool near = false;
+    if (mixture)
+    {
+      near = rng.NextDouble() < 0.5;
+    }
+    if (near)
+    {
+      if constexpr (DIM == 3)
+      {
+        if (!this->SampleInPlane(x, onPrimitive, radius, rng, z))
+        {
+          return;
+        }
+      }
+    }
+    else if (!sampler.Sample(x, radius, rng, z))
     {
       return;
     }
@@ -336,6 +363,14 @@ private:
     if (!(r < radius))
     {
       return;
+    }
+    if (mixture)
+    {
+      const double byArea = near ? sampler.Pdf(x, radius, z.Primitive) : z.Pdf;
+      const double byDistance = this->Coplanar(z.Primitive, onPrimitive, x)
+        ? ReflectingBoundarySampler<DIM>::NearPdf(radius, r)
+        : 0.0;
+      z.Pdf = 0.5 * (byArea + byDistance);
     }
     // Test visibility to a point just inside the domain off z, so that the
     // primitive z lies on does not hide it.
@@ -355,6 +390,39 @@ private:
     {
       this->Accumulated[c] += w * this->Inner[c];
     }
+  }
+
+  // A point of the Neumann part in the plane of primitive `own` (x on it),
+  // density 1/(2π R r) in that plane: kept where a Neumann triangle in the
+  // same plane holds it, z then on that triangle.
+  bool SampleInPlane(const Vec<DIM>& x, std::int64_t own, double radius, RandomStream& rng,
+    BoundarySample<DIM>& z) const
+  {
+    Vec<DIM> y;
+    const MixedBoundary<DIM>& b = this->Geometry;
+    if (!b.FluxSampler().SampleInPlane(x, own, radius, rng, y))
+    {
+      return false;
+    }
+    const ClosestPointResult<DIM> hit = b.Reflecting().ClosestPoint(y);
+    if (hit.primitive < 0 || !(hit.distance <= this->Offset) || !this->Coplanar(hit.primitive, own, x))
+    {
+      return false;
+    }
+    z.Point = hit.point;
+    z.Primitive = hit.primitive;
+    z.Barycentric = hit.barycentric;
+    return true;
+  }
+
+  // Whether primitive p lies in the plane of primitive `own` through x
+  // (within Offset): where SampleInPlane's points may land.
+  bool Coplanar(std::int64_t p, std::int64_t own, const Vec<DIM>& x) const
+  {
+    const MixedBoundary<DIM>& b = this->Geometry;
+    const Vec<DIM>& n = b.OutwardNormal(own);
+    return (p == own || b.OutwardNormal(p).dot(n) >= 1.0 - 1e-12) &&
+      std::abs((b.FluxSampler().FirstVertex(p) - x).dot(n)) <= this->Offset;
   }
 
   const MixedBoundary<DIM>& Geometry;
