@@ -352,11 +352,11 @@ bool AssembleMixedBoundary(vtkObject* reporter, const gridfree::ProblemInputs& i
   }
   BoundaryAssembly<DIM>::ReportDroppedCells(
     self, report.IgnoredLowerDimensionalCells, report.SkippedCells, report.DegenerateCells);
-  if (counts.Neumann + counts.Robin == 0)
+  if (counts.Neumann + counts.Robin + counts.Sheets == 0)
   {
     vtkWarningWithObjectMacro(self, << "Mixed Boundary Conditions is on, but the boundary "
-                                       "condition array marks no cell Neumann (1) or Robin (2): "
-                                       "every cell is Dirichlet.");
+                                       "condition array marks no cell Neumann (1), Robin (2) "
+                                       "or insulating sheet (3): every cell is Dirichlet.");
   }
   // A flux out of all proportion: across the boundary's size it would
   // change u by far more than the boundary values are (1e8 times), or by
@@ -374,8 +374,9 @@ bool AssembleMixedBoundary(vtkObject* reporter, const gridfree::ProblemInputs& i
                                        "value for missing data?).");
   }
   vtkDebugWithObjectMacro(self, << "Mixed boundary: " << counts.Dirichlet << " Dirichlet, "
-                                << counts.Neumann << " Neumann and " << counts.Robin
-                                << " Robin primitives.");
+                                << counts.Neumann << " Neumann, " << counts.Robin
+                                << " Robin and " << counts.Sheets
+                                << " insulating sheet primitives.");
   return true;
 }
 

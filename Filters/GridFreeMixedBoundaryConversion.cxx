@@ -19,10 +19,10 @@ namespace gridfree
 namespace
 {
 // The condition code `v` read from the condition array, or -1 when it is
-// not exactly 0, 1 or 2.
+// not exactly 0, 1, 2 or 3.
 int ConditionCode(double v)
 {
-  return (v == 0.0 || v == 1.0 || v == 2.0) ? static_cast<int>(v) : -1;
+  return (v == 0.0 || v == 1.0 || v == 2.0 || v == 3.0) ? static_cast<int>(v) : -1;
 }
 
 std::string Describe(double v)
@@ -107,7 +107,7 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
   for (std::size_t p = 0; p < np; ++p)
   {
     const vtkIdType cell = cells.SourceCell[p];
-    int code = 2;
+    int code = 3;
     for (int k = 0; k < (arrays.ConditionsOnCells ? 1 : DIM); ++k)
     {
       const vtkIdType id = arrays.ConditionsOnCells ? cell : cells.Primitives[p][k];
@@ -117,7 +117,7 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
       {
         reason = "the boundary condition array holds " + Describe(v) + " at " +
           (arrays.ConditionsOnCells ? "cell " : "point ") + std::to_string(id) +
-          "; it may hold only 0 (Dirichlet), 1 (Neumann) and 2 (Robin)";
+          "; it may hold only 0 (Dirichlet), 1 (Neumann), 2 (Robin) and 3 (insulating sheet)";
         return false;
       }
       code = std::min(code, c); // per point: the smallest condition wins
@@ -131,6 +131,11 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
     if (code == 1)
     {
       ++counts.Neumann;
+      continue;
+    }
+    if (code == 3)
+    {
+      ++counts.Sheets;
       continue;
     }
     ++counts.Robin;
@@ -173,9 +178,10 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
     std::vector<unsigned char> seen(arrays.FluxOnCells ? 0 : cells.Vertices.size(), 0);
     for (std::size_t p = 0; p < np; ++p)
     {
-      if (conditions[p] == BoundaryCondition::Dirichlet)
+      if (conditions[p] == BoundaryCondition::Dirichlet ||
+        conditions[p] == BoundaryCondition::InsulatingSheet)
       {
-        continue;
+        continue; // the flux is not read there
       }
       for (int k = 0; k < (arrays.FluxOnCells ? 1 : DIM); ++k)
       {
@@ -327,8 +333,18 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
       }
     }
     std::vector<double> partMu;
+    std::vector<std::uint8_t> sheets;
     if (!r.Primitives.empty())
     {
+      if (counts.Sheets > 0)
+      {
+        sheets.reserve(r.Primitives.size());
+        for (std::int64_t whole : r.Original)
+        {
+          sheets.push_back(
+            conditions[static_cast<std::size_t>(whole)] == BoundaryCondition::InsulatingSheet);
+        }
+      }
       ValueAssociation association;
       std::vector<double> h = values(r, hOnPoints, gOnPoints ? nc : 0, hCells, association);
       if (counts.Robin > 0)
@@ -342,7 +358,7 @@ bool ConvertMixedBoundary(vtkPolyData* boundary, const MixedBoundaryArrays& arra
       reflecting = std::make_shared<Boundary<DIM>>();
       reflecting->Set(std::move(r.Vertices), std::move(r.Primitives), association, nc, std::move(h));
     }
-    out.Set(dirichlet, reflecting, std::move(partMu));
+    out.Set(dirichlet, reflecting, std::move(partMu), true, std::move(sheets));
   };
   if (whileBuilding)
   {

@@ -54,6 +54,7 @@ struct MixedBoundaryCounts
   long long Dirichlet = 0;
   long long Neumann = 0;
   long long Robin = 0;
+  long long Sheets = 0; // insulating sheets (3)
   double LargestFlux = 0.0;  // |h| on the Neumann and Robin cells
   double LargestValue = 0.0; // |g| in the boundary value array (0 with a value function)
   double Size = 0.0;         // the boundary's bounding-box diagonal
@@ -61,7 +62,7 @@ struct MixedBoundaryCounts
 
 // Fills `out` from the boundary's cells and arrays, with g from
 // `valueFunction` when it is given. False with a reason when the arrays do
-// not fit (a condition other than 0, 1 or 2; a flux of other components
+// not fit (a condition other than 0, 1, 2 or 3; a flux of other components
 // than g, or not finite where it is used; Robin cells without
 // coefficients, or a negative or non-finite one: the first named, the
 // others counted) or nothing usable is left. `whileBuilding` as for ConvertBoundary.

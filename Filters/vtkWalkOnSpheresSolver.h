@@ -270,7 +270,10 @@ public:
    *   array, SetInputArrayToProcess(5, ...) (as many components as g; no
    *   selection: h = 0, an insulated or reflecting wall);
    * - 2 Robin: ∂u/∂n + μu = h, with μ >= 0 the Robin coefficient array,
-   *   SetInputArrayToProcess(6, ...) (one component).
+   *   SetInputArrayToProcess(6, ...) (one component);
+   * - 3 insulating sheet: a surface inside the domain (appended to the
+   *   boundary) with the domain on both sides and ∂u/∂n = 0 on each; any
+   *   orientation, its flux and Robin values not read.
    * A condition given per point applies to a cell when all its points agree;
    * otherwise the smallest wins (a cell is Neumann only if all its points
    * are). Neumann and Robin cells must be oriented with outward normals

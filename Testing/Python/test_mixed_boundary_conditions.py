@@ -13,7 +13,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 import gridfree  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataObject, vtkPolyData  # noqa: E402
-from vtkmodules.vtkFiltersSources import vtkSphereSource, vtkTessellatedBoxSource  # noqa: E402
+from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkTriangleFilter  # noqa: E402
+from vtkmodules.vtkFiltersSources import (  # noqa: E402
+    vtkPlaneSource, vtkSphereSource, vtkTessellatedBoxSource)
 
 from gridfree_testing import MessageCatcher, add_point_array, z_scores  # noqa: E402
 
@@ -409,6 +411,76 @@ def test_no_back_face_hits_on_a_closed_nonconvex_blob():
     assert "from outside the domain" not in catcher.warning_text()
 
 
+def slit(x, y, z):
+    """sqrt(r) cos(theta / 2), theta in [0, 2 pi) from the positive x axis:
+    harmonic off the half-plane y = 0, x > 0, with no flux through either
+    side of it, and a jump of 2 sqrt(r) across it."""
+    theta = math.atan2(y, x)
+    if theta < 0.0:
+        theta += 2.0 * math.pi
+    return math.sqrt(math.hypot(x, y)) * math.cos(0.5 * theta)
+
+
+def test_an_insulating_sheet_inside_the_domain():
+    # The cube [-1, 1]^3 at T = slit (Dirichlet, bc 0) and, appended to it,
+    # the sheet y = 0, 0 <= x <= 1 (bc 3): the domain on both of its sides.
+    cube = vtkTessellatedBoxSource()
+    cube.SetBounds(-1, 1, -1, 1, -1, 1)
+    cube.SetLevel(8)
+    cube.QuadsOff()
+    sheet = vtkPlaneSource()
+    sheet.SetOrigin(0, 0, -1)
+    sheet.SetPoint1(1, 0, -1)
+    sheet.SetPoint2(0, 0, 1)
+    sheet.SetResolution(8, 16)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(sheet.GetOutputPort())
+    both = vtkAppendPolyData()
+    both.AddInputConnection(cube.GetOutputPort())
+    both.AddInputConnection(triangles.GetOutputPort())
+    both.Update()
+    mesh = vtkPolyData()
+    mesh.DeepCopy(both.GetOutput())
+    mesh.GetPointData().Initialize()
+    bc = vtkIntArray()
+    bc.SetName("bc")
+    for cell in range(mesh.GetNumberOfCells()):
+        x, y, z = cell_centre(mesh, cell)
+        on_sheet = abs(y) < 1e-9 and x > 1e-9 and x < 1.0 - 1e-9
+        bc.InsertNextValue(3 if on_sheet else 0)
+    mesh.GetCellData().AddArray(bc)
+    probe = vtkPoints()
+    for i in range(400):
+        x, y, z = (((i * k) % 1.0) * 1.8 - 0.9 for k in (0.7548776662, 0.5698402910, 0.3819660113))
+        if x > -0.05 and abs(y) < 0.05:
+            continue
+        probe.InsertNextPoint(x, y, z)
+    points = vtkPolyData()
+    points.SetPoints(probe)
+    solver = SOLVER()
+    solver.SetBoundaryData(mesh)
+    solver.SetProbeData(points)
+    # The jump along the sheet's edges on the cube: values from an
+    # expression at each walk's end, not interpolated across triangles.
+    solver.SetBoundaryValueExpression("sign(y)*sqrt((sqrt(x^2+y^2)+x)/2)")
+    solver.SetMixedBoundaryConditions(True)
+    solver.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
+    solver.SetWalksPerPoint(256)
+    solver.SetSeed(4)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(out, slit, name="Solution"))
+    assert field(out, "BackFaceHits") == 0
+    assert field(out, "OutsidePoints") == 0
+    # The sphere cache says it does not answer sheets yet.
+    solver.SetEstimator(SOLVER.SPHERE_CACHE)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert "insulating sheets" in catcher.error_text(), catcher.error_text()
+
+
 def square_2d():
     """The square [-0.5, 0.5]^2 in z = 0, counter-clockwise (the domain on
     the left), one polyline per side of 8 segments: T = x^2 - y^2, the
@@ -473,8 +545,9 @@ def failing_solve(configure, level=3):
 
 def test_messages_of_what_cannot_work():
     def bad_code(solver, mesh):
-        mesh.GetCellData().GetArray("bc").SetValue(5, 3)
-    assert "may hold only 0 (Dirichlet), 1 (Neumann) and 2 (Robin)" in failing_solve(bad_code)
+        mesh.GetCellData().GetArray("bc").SetValue(5, 4)
+    assert ("may hold only 0 (Dirichlet), 1 (Neumann), 2 (Robin) and 3 (insulating sheet)"
+            in failing_solve(bad_code))
 
     def no_condition_array(solver, mesh):
         solver.SetInputArrayToProcess(4, 0, 0, CELLS, "")

@@ -104,6 +104,13 @@ public:
         "the sphere cache answers Laplace's and Poisson's equation only (yet)");
     }
     RequireVolumeSourcesOnly<DIM>(problem, "the sphere cache");
+    if (problem.GetMixedBoundary() && problem.GetMixedBoundary()->HasTwoSided())
+    {
+      // Its inside test reads the side of the whole boundary's closest
+      // point, which a sheet (the domain on both sides) does not tell.
+      throw std::invalid_argument(
+        "the sphere cache does not answer insulating sheets (condition 3) yet");
+    }
     const SourceSet<DIM>* sources = problem.GetSources();
     if (settings.SamplesPerSphere < 4 || !(settings.Reach > 0.0 && settings.Reach < 1.0) ||
       !(settings.ShellDistance > 0.0))

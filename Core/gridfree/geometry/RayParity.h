@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 
 namespace gridfree
@@ -62,22 +63,24 @@ std::array<Vec<DIM>, kParityRays> ParityRayDirections()
 // closer together than `gap` counted once (a ray through a shared edge or
 // vertex that several primitives report). Each query starts just beyond
 // the previous hit; `limit` (more than the primitives) guards against a
-// pathological input.
+// pathological input. With `counts`, only the primitives it accepts count
+// (a mixed boundary's insulating sheets close nothing).
 template <int DIM>
 std::int64_t CountRayCrossings(const Bvh<DIM>& tree, const Vec<DIM>& x, const Vec<DIM>& direction,
-  double gap, std::int64_t limit)
+  double gap, std::int64_t limit,
+  const std::function<bool(std::int64_t)>& counts = std::function<bool(std::int64_t)>())
 {
   std::int64_t count = 0;
   double tMin = 0.0;
   const double inf = std::numeric_limits<double>::infinity();
-  while (count < limit)
+  for (std::int64_t hits = 0; hits < limit; ++hits)
   {
     const RayHit<DIM> hit = tree.Intersect(x, direction, inf, tMin);
     if (!hit.Hit())
     {
       break;
     }
-    ++count;
+    count += !counts || counts(hit.primitive) ? 1 : 0;
     const double next = hit.t + gap;
     tMin = next > hit.t ? next : std::nextafter(hit.t, inf);
   }

@@ -32,6 +32,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -42,9 +43,10 @@ namespace gridfree
 // Boundary condition of a primitive.
 enum class BoundaryCondition : std::uint8_t
 {
-  Dirichlet = 0, // u = g
-  Neumann = 1,   // ∂u/∂n = h, n the outward normal
-  Robin = 2      // ∂u/∂n + μu = h, μ > 0
+  Dirichlet = 0,      // u = g
+  Neumann = 1,        // ∂u/∂n = h, n the outward normal
+  Robin = 2,          // ∂u/∂n + μu = h, μ > 0
+  InsulatingSheet = 3 // ∂u/∂n = 0 on both sides: the domain lies on both
 };
 
 // One part of a mesh: its own compact vertex list, its primitives, and for
@@ -117,9 +119,15 @@ public:
   // reach the Dirichlet part whatever hides behind the Neumann part's reflex
   // corners: wrong there (biased), right where that part is convex seen from
   // inside. It exists to show what silhouettes are for.
+  //
+  // `twoSided` marks, per primitive of the reflecting part (empty: none),
+  // insulating sheets: surfaces inside the domain with the domain on both
+  // sides and no flux through them (their flux values are not read, their
+  // μ must be 0). Walks reflect off either side; they close nothing (Inside
+  // ignores them) and their orientation does not matter.
   void Set(std::shared_ptr<const Boundary<DIM>> dirichlet,
     std::shared_ptr<const Boundary<DIM>> reflecting, std::vector<double> robin = {},
-    bool silhouettes = true)
+    bool silhouettes = true, std::vector<std::uint8_t> twoSided = {})
   {
     const bool hasD = dirichlet && !dirichlet->Empty();
     const bool hasR = reflecting && !reflecting->Empty();
@@ -149,6 +157,22 @@ public:
         throw std::invalid_argument("mixed boundary: Robin coefficients must be finite and >= 0");
       }
     }
+    if (!twoSided.empty() && twoSided.size() != reflectingPrimitives)
+    {
+      throw std::invalid_argument("mixed boundary: expected one two-sided flag per primitive of "
+                                  "the Neumann part");
+    }
+    for (std::size_t i = 0; i < twoSided.size() && !robin.empty(); ++i)
+    {
+      if (twoSided[i] && robin[i] > 0.0)
+      {
+        throw std::invalid_argument(
+          "mixed boundary: an insulating sheet has no Robin coefficient");
+      }
+    }
+    this->TwoSided = std::move(twoSided);
+    this->AnyTwoSided =
+      std::any_of(this->TwoSided.begin(), this->TwoSided.end(), [](std::uint8_t t) { return t != 0; });
     this->Robin = std::move(robin);
     this->AnyRobin = std::any_of(this->Robin.begin(), this->Robin.end(), [](double mu) { return mu > 0.0; });
     this->DirichletPart = hasD ? std::move(dirichlet) : nullptr;
@@ -169,7 +193,7 @@ public:
       const auto& p = this->ReflectingPart->MeshPrimitives();
       if (silhouettes)
       {
-        this->Silhouette.Build(v, p);
+        this->Silhouette.Build(v, p, this->TwoSided);
       }
       this->Sampler.Build(v, p);
       this->Normals.reserve(p.size());
@@ -209,8 +233,12 @@ public:
       {
         if (part)
         {
+          const bool sheets = part == this->ReflectingPart.get() && this->AnyTwoSided;
           crossings += CountRayCrossings<DIM>(part->Hierarchy(), x, d, this->ParityGap,
-            static_cast<std::int64_t>(part->NumberOfPrimitives()) + 1);
+            static_cast<std::int64_t>(part->NumberOfPrimitives()) + 1,
+            sheets ? std::function<bool(std::int64_t)>(
+                       [this](std::int64_t p) { return !this->IsTwoSided(p); })
+                   : std::function<bool(std::int64_t)>());
         }
       }
       return crossings;
@@ -233,6 +261,13 @@ public:
   {
     return this->DirichletPart ? this->DirichletPart->Components()
                                : this->ReflectingPart->Components();
+  }
+
+  // Whether a primitive of the reflecting part is an insulating sheet.
+  bool HasTwoSided() const { return this->AnyTwoSided; }
+  bool IsTwoSided(std::int64_t primitive) const
+  {
+    return this->AnyTwoSided && this->TwoSided[static_cast<std::size_t>(primitive)] != 0;
   }
 
   // Whether some primitive has a Robin coefficient μ > 0.
@@ -268,6 +303,8 @@ private:
   RobinRadiusTree<DIM> RobinBounds;
   std::vector<Vec<DIM>> Normals;
   std::vector<double> Robin; // μ per reflecting primitive (empty: none)
+  std::vector<std::uint8_t> TwoSided; // insulating sheets (empty: none)
+  bool AnyTwoSided = false;
   double ParityGap = 0.0;
   std::array<Vec<DIM>, kParityRays> ParityDirections{};
   bool AnyRobin = false;

@@ -17,7 +17,10 @@
 // seen as a silhouette from inside, so only reflex ones are candidates. A
 // vertex or edge with one primitive (the rim of the reflecting part, which
 // meets the Dirichlet part there) or more than two, or whose primitives'
-// orientations disagree, is always a silhouette.
+// orientations disagree, is always a silhouette. Where a two-sided primitive
+// (an insulating sheet: the domain on both of its sides) meets another at
+// an angle, the vertex or edge is reflex seen from one side or the other:
+// it is a candidate whichever way it turns (flat ones never are).
 //
 // The hierarchy is a binary tree of boxes, each with a cone bounding the
 // normals below it (axis, half-angle): a subtree can hold a silhouette for x
@@ -119,11 +122,13 @@ class SilhouetteTree
 public:
   using Primitive = std::array<std::int64_t, DIM>;
 
-  // The candidates of a one-sided boundary given as vertices and primitives
-  // (segments or triangles, oriented as OutwardUnitNormal expects).
-  void Build(const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives)
+  // The candidates of a boundary given as vertices and primitives
+  // (segments or triangles, oriented as OutwardUnitNormal expects), one-
+  // sided but for the primitives `twoSided` marks (empty: none).
+  void Build(const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives,
+    const std::vector<std::uint8_t>& twoSided = {})
   {
-    this->Candidates = MakeCandidates(vertices, primitives);
+    this->Candidates = MakeCandidates(vertices, primitives, twoSided);
     BoundingBox<DIM> all;
     for (const Vec<DIM>& v : vertices)
     {
@@ -136,9 +141,16 @@ public:
   // Candidates of a one-sided boundary (see the file comment); public for
   // tests, which compare the tree against a loop over them.
   static std::vector<SilhouetteCandidate<DIM>> MakeCandidates(
-    const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives)
+    const std::vector<Vec<DIM>>& vertices, const std::vector<Primitive>& primitives,
+    const std::vector<std::uint8_t>& twoSided = {})
   {
     std::vector<SilhouetteCandidate<DIM>> out;
+    auto sheet = [&twoSided](std::int64_t p) {
+      return !twoSided.empty() && twoSided[static_cast<std::size_t>(p)] != 0;
+    };
+    // Two primitives meeting at an angle (not flat): a two-sided pair's
+    // candidate whichever way it turns.
+    auto bent = [](const Vec<DIM>& n0, const Vec<DIM>& n1) { return n0.dot(n1) < 1.0 - 1e-12; };
     if constexpr (DIM == 2)
     {
       // Per vertex: the segment arriving at it and the one leaving it.
@@ -179,6 +191,13 @@ public:
           if (c.N0.isZero() || c.N1.isZero())
           {
             c.Always = true; // a degenerate segment: no normal to test
+          }
+          else if (sheet(i.InSegment) || sheet(i.OutSegment))
+          {
+            if (!bent(c.N0, c.N1))
+            {
+              continue; // straight
+            }
           }
           else if (!(turn < 0.0))
           {
@@ -226,6 +245,15 @@ public:
           if (c.N0.isZero() || c.N1.isZero())
           {
             c.Always = true;
+            out.push_back(c);
+            continue;
+          }
+          if (sheet(uses[0].Triangle) || sheet(uses[1].Triangle))
+          {
+            if (!bent(c.N0, c.N1))
+            {
+              continue; // flat
+            }
             out.push_back(c);
             continue;
           }

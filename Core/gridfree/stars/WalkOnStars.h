@@ -247,8 +247,9 @@ private:
           Vec<DIM> normal = b.OutwardNormal(hit.primitive);
           if (normal.dot(v) < 0.0)
           {
-            // Met from outside: keep the walk on the side it came from.
-            ++this->BackHits;
+            // Met from outside: keep the walk on the side it came from
+            // (an insulating sheet's other side is no fault).
+            this->BackHits += b.IsTwoSided(hit.primitive) ? 0 : 1;
             normal = -normal;
           }
           const double r = (hit.point - x).norm();
@@ -360,9 +361,9 @@ private:
       return;
     }
     const double r = (z.Point - x).norm();
-    if (!(r < radius))
+    if (!(r < radius) || b.IsTwoSided(z.Primitive))
     {
-      return;
+      return; // (no flux crosses an insulating sheet)
     }
     if (mixture)
     {
