@@ -59,8 +59,9 @@ bool IsGridFreeClassName(const QString& name)
 }
 
 // The first array the domain offers whose name (any case) is one of those
-// the property's hint GridFreeSuggestedArrays lists, or "".
-std::string SuggestedArray(vtkSMProperty* property, vtkSMArrayListDomain* arrays)
+// the property's hint GridFreeSuggestedArrays lists, or "" (its index in
+// the domain in `index`).
+std::string SuggestedArray(vtkSMProperty* property, vtkSMArrayListDomain* arrays, unsigned int& index)
 {
   vtkPVXMLElement* hints = property->GetHints();
   vtkPVXMLElement* suggestion =
@@ -77,6 +78,7 @@ std::string SuggestedArray(vtkSMProperty* property, vtkSMArrayListDomain* arrays
     {
       if (QString::fromUtf8(arrays->GetString(k)).compare(name, Qt::CaseInsensitive) == 0)
       {
+        index = k;
         return arrays->GetString(k);
       }
     }
@@ -287,11 +289,14 @@ void pqGridFreeResponsiveSolves::ReselectArraysOf(
       // offered, else the domain's default.
       const bool none = !current || std::string(current).empty() ||
         (arrays->GetNoneString() && std::string(current) == arrays->GetNoneString());
-      const std::string suggested = SuggestedArray(selection, arrays);
+      unsigned int index = 0;
+      const std::string suggested = SuggestedArray(selection, arrays, index);
       if (!suggested.empty() && (onlySuggested || !offered || none))
       {
         // On creation the selection is the domain's default (the active
-        // scalars, say), not a choice: a suggested name wins.
+        // scalars, say), not a choice: a suggested name wins, with its own
+        // association (a cell array stays one).
+        selection->SetElement(3, std::to_string(arrays->GetFieldAssociation(index)).c_str());
         selection->SetElement(4, suggested.c_str());
       }
       else if (!offered && !onlySuggested)

@@ -23,7 +23,7 @@ if len(sys.argv) < 2:
 PLUGIN_DIR = sys.argv[1]
 XML_FILES = ("GridFreeFilters.xml", "GridFreeApplications.xml", "GridFreeImplicitFunctions.xml")
 FILTERS = ("WalkOnSpheresSolver", "WalkOnSpheresStreamTracer", "WalkOnSpheresAdaptiveSampler",
-           "MovingLeastSquaresInterpolator", "WalkOnSpheresDenoiser",
+           "MovingLeastSquaresInterpolator", "WalkOnSpheresDenoiser", "MarkBoundaryConditions",
            "WalkOnSpheresHelmholtzDecomposition", "WalkOnSpheresCrossField",
            "WalkOnSpheresDeformation", "WalkOnSpheresDiffusionCurves")
 # Expert knobs: hidden in the basic panel, in the Advanced group, wherever present.

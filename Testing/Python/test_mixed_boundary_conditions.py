@@ -12,7 +12,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import gridfree  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataObject, vtkPolyData  # noqa: E402
+from vtkmodules.vtkCommonDataModel import (  # noqa: E402
+    vtkCellArray, vtkDataObject, vtkPlane, vtkPolyData, vtkSphere)
 from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkTriangleFilter  # noqa: E402
 from vtkmodules.vtkFiltersSources import (  # noqa: E402
     vtkPlaneSource, vtkSphereSource, vtkTessellatedBoxSource)
@@ -409,6 +410,80 @@ def test_no_back_face_hits_on_a_closed_nonconvex_blob():
     assert field(out, "BackFaceHits") == 0
     assert field(out, "OutsidePoints") == 0
     assert "from outside the domain" not in catcher.warning_text()
+
+
+def test_conditions_marked_by_regions_without_expressions():
+    # The cube's bottom face marked Neumann behind a plane, its top face by a
+    # second marker in front of another (Inside Out), both with the flux of
+    # u = x^2 - y^2 + z/2 (-0.5 and +0.5), the rest left Dirichlet: the
+    # solver reads the markers' bc, h and mu and is calibrated.
+    cube = vtkTessellatedBoxSource()
+    cube.SetBounds(-0.5, 0.5, -0.5, 0.5, -0.5, 0.5)
+    cube.SetLevel(10)
+    cube.QuadsOff()
+    cube.DuplicateSharedPointsOn()
+    cube.Update()
+    mesh = vtkPolyData()
+    mesh.DeepCopy(cube.GetOutput())
+    add_point_array(mesh, "T", u3)
+    below, above = vtkPlane(), vtkPlane()
+    below.SetOrigin(0, 0, -0.49)
+    below.SetNormal(0, 0, 1)
+    above.SetOrigin(0, 0, 0.49)
+    above.SetNormal(0, 0, 1)
+    bottom = gridfree.vtkBoundaryConditionMarker()
+    bottom.SetInputData(mesh)
+    bottom.SetRegion(below)
+    bottom.SetFlux(-0.5)
+    top = gridfree.vtkBoundaryConditionMarker()
+    top.SetInputConnection(bottom.GetOutputPort())
+    top.SetRegion(above)
+    top.InsideOutOn()
+    top.SetFlux(0.5)
+    top.Update()
+    marked = top.GetOutput()
+    per_face = 2 * 11 * 11  # level 10: 11 divisions a side
+    assert field(bottom.GetOutput(), "MarkedCells") == per_face
+    assert field(marked, "MarkedCells") == per_face
+    bc, h = marked.GetCellData().GetArray("bc"), marked.GetCellData().GetArray("h")
+    for cell in range(marked.GetNumberOfCells()):
+        z = cell_centre(marked, cell)[2]
+        want = 1 if abs(abs(z) - 0.5) < 1e-9 else 0
+        assert bc.GetValue(cell) == want, (cell, z)
+        assert h.GetValue(cell) == (0.5 * (1 if z > 0 else -1) if want else 0.0)
+    solver = SOLVER()
+    solver.SetBoundaryConnection(top.GetOutputPort())
+    solver.SetProbeData(cloud(120))
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetMixedBoundaryConditions(True)
+    solver.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
+    solver.SetInputArrayToProcess(5, 0, 0, CELLS, "h")
+    solver.SetWalksPerPoint(256)
+    solver.SetSeed(6)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(solver.GetOutput(), u3))
+    # Robin with its coefficient, inside a sphere; and no region is an error.
+    ball = vtkSphere()
+    ball.SetCenter(0.5, 0.5, 0.5)
+    ball.SetRadius(0.3)
+    corner = gridfree.vtkBoundaryConditionMarker()
+    corner.SetInputData(mesh)
+    corner.SetRegion(ball)
+    corner.SetCondition(gridfree.vtkBoundaryConditionMarker.ROBIN)
+    corner.SetRobinCoefficient(2.5)
+    corner.Update()
+    out = corner.GetOutput()
+    mu = out.GetCellData().GetArray("mu")
+    robin = [c for c in range(out.GetNumberOfCells()) if out.GetCellData().GetArray("bc").GetValue(c) == 2]
+    assert 0 < len(robin) == field(out, "MarkedCells")
+    assert all(mu.GetValue(c) == 2.5 for c in robin)
+    empty = gridfree.vtkBoundaryConditionMarker()
+    empty.SetInputData(mesh)
+    catcher = MessageCatcher(empty, empty.GetExecutive())
+    empty.Update()
+    assert "No Region is set" in catcher.error_text()
 
 
 def slit(x, y, z):
