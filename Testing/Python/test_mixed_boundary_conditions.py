@@ -179,6 +179,9 @@ def test_gradient_and_hessian_with_mixed_conditions():
     solver = mixed_solver(box(), cloud(120), walks=256)
     solver.SetComputeGradient(True)
     solver.SetComputeHessian(True)
+    solver.SetComputeDirectionalDerivative(True)
+    direction = (0.6, -0.8, 0.5)
+    solver.SetDerivativeDirection(*direction)
     catcher = MessageCatcher(solver)
     solver.Update()
     out = solver.GetOutput()
@@ -186,6 +189,9 @@ def test_gradient_and_hessian_with_mixed_conditions():
     assert_calibrated(z_scores(out, u3))
     assert_calibrated(component_z_scores(out, "T_Gradient", grad3, range(3)))
     assert_calibrated(component_z_scores(out, "T_Hessian", hessian3, (0, 1, 2, 4, 5, 8)))
+    assert_calibrated(z_scores(
+        out, lambda x, y, z: sum(d * g for d, g in zip(direction, grad3(x, y, z))),
+        name="T_DirectionalDerivative"))
     assert field(out, "BackFaceHits") == 0
 
 
