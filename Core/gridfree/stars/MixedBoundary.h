@@ -125,9 +125,16 @@ public:
   // sides and no flux through them (their flux values are not read, their
   // μ must be 0). Walks reflect off either side; they close nothing (Inside
   // ignores them) and their orientation does not matter.
+  //
+  // `exterior` makes the domain the outside of the closed boundary (3D
+  // Laplace: u → 0 at infinity; WalkOnStars.h returns far walks exactly).
+  // The mesh keeps its orientation (normals out of the object) and the flux
+  // h is still ∂u/∂n along them: internally the domain's outward normal is
+  // their opposite, h changes sign and silhouettes are taken for that side.
+  // No Robin parts there yet.
   void Set(std::shared_ptr<const Boundary<DIM>> dirichlet,
     std::shared_ptr<const Boundary<DIM>> reflecting, std::vector<double> robin = {},
-    bool silhouettes = true, std::vector<std::uint8_t> twoSided = {})
+    bool silhouettes = true, std::vector<std::uint8_t> twoSided = {}, bool exterior = false)
   {
     const bool hasD = dirichlet && !dirichlet->Empty();
     const bool hasR = reflecting && !reflecting->Empty();
@@ -170,6 +177,12 @@ public:
           "mixed boundary: an insulating sheet has no Robin coefficient");
       }
     }
+    if (exterior && std::any_of(robin.begin(), robin.end(), [](double mu) { return mu > 0.0; }))
+    {
+      throw std::invalid_argument(
+        "mixed boundary: Robin conditions are not available in exterior problems yet");
+    }
+    this->ExteriorDomain = exterior;
     this->TwoSided = std::move(twoSided);
     this->AnyTwoSided =
       std::any_of(this->TwoSided.begin(), this->TwoSided.end(), [](std::uint8_t t) { return t != 0; });
@@ -191,13 +204,22 @@ public:
     {
       const auto& v = this->ReflectingPart->MeshVertices();
       const auto& p = this->ReflectingPart->MeshPrimitives();
+      // The domain's side: the primitives as given, or reversed outside.
+      std::vector<std::array<std::int64_t, DIM>> facing(p.begin(), p.end());
+      if (exterior)
+      {
+        for (auto& prim : facing)
+        {
+          std::swap(prim[0], prim[1]);
+        }
+      }
       if (silhouettes)
       {
-        this->Silhouette.Build(v, p, this->TwoSided);
+        this->Silhouette.Build(v, facing, this->TwoSided);
       }
       this->Sampler.Build(v, p);
       this->Normals.reserve(p.size());
-      for (const auto& prim : p)
+      for (const auto& prim : facing)
       {
         this->Normals.push_back(OutwardUnitNormal<DIM>(v, prim));
       }
@@ -263,6 +285,12 @@ public:
                                : this->ReflectingPart->Components();
   }
 
+  // Whether the domain is the outside of the boundary (Set's `exterior`).
+  bool IsExterior() const { return this->ExteriorDomain; }
+  // The sign turning the reflecting part's flux (along the mesh's normals)
+  // into ∂u/∂n along the domain's outward normal.
+  double FluxSign() const { return this->ExteriorDomain ? -1.0 : 1.0; }
+
   // Whether a primitive of the reflecting part is an insulating sheet.
   bool HasTwoSided() const { return this->AnyTwoSided; }
   bool IsTwoSided(std::int64_t primitive) const
@@ -285,7 +313,8 @@ public:
                           : R;
   }
 
-  // Unit outward normal of a primitive of the reflecting part.
+  // Unit outward normal of a primitive of the reflecting part, out of the
+  // domain (into the object for an exterior domain).
   const Vec<DIM>& OutwardNormal(std::int64_t primitive) const
   {
     return this->Normals[static_cast<std::size_t>(primitive)];
@@ -304,6 +333,7 @@ private:
   std::vector<Vec<DIM>> Normals;
   std::vector<double> Robin; // μ per reflecting primitive (empty: none)
   std::vector<std::uint8_t> TwoSided; // insulating sheets (empty: none)
+  bool ExteriorDomain = false;
   bool AnyTwoSided = false;
   double ParityGap = 0.0;
   std::array<Vec<DIM>, kParityRays> ParityDirections{};

@@ -52,6 +52,7 @@
 #define GRIDFREE_STARS_WALK_ON_STARS_H
 
 #include <gridfree/estimators/EquationPolicies.h>
+#include <gridfree/estimators/ExteriorReturn.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/sampling/BallSampling.h>
 #include <gridfree/sampling/Random.h>
@@ -108,8 +109,16 @@ public:
         "a boundary without a Dirichlet part needs screening or a Robin part: with Neumann "
         "conditions alone the solution of a Laplace or Poisson equation is not unique");
     }
+    if (boundary.IsExterior() &&
+      (settings.Problem != Equation::Laplace || volume != nullptr ||
+        !concentrated.Empty()))
+    {
+      throw std::invalid_argument(
+        "exterior mixed problems solve the Laplace equation without sources (yet)");
+    }
     const double diagonal = std::max(boundary.Diagonal(), settings.Epsilon);
     this->Center = boundary.Center();
+    this->EnclosingRadius = 0.5 * diagonal * (1.0 + 1e-9);
     this->MaxRadius = diagonal;
     this->EscapeRadius = std::max(settings.EscapeRadiusFactor, 1.0) * diagonal;
     this->Offset = 1e-9 * diagonal;
@@ -181,8 +190,26 @@ private:
     WalkEnd end = WalkEnd::Boundary;
     bool hasValue = true;
     typename Boundary<DIM>::StepHint hint;
+    const bool exterior = b.IsExterior();
+    const double far = s.FarRadiusFactor * this->EnclosingRadius;
     for (steps = 0;; ++steps)
     {
+      if (exterior && (x - this->Center).squaredNorm() > far * far)
+      {
+        // Far outside (exterior domain, Laplace): back to the sphere about
+        // the boundary with the probability Brownian motion ever returns,
+        // at its hitting point, or gone for good (u → 0 at infinity;
+        // ExteriorReturn.h).
+        const double r = (x - this->Center).norm();
+        if (rng.NextDouble() >= ReturnProbability<DIM>(r, this->EnclosingRadius))
+        {
+          end = WalkEnd::Terminated;
+          hasValue = false;
+          break;
+        }
+        x = SampleExteriorReturn<DIM>(x, this->Center, this->EnclosingRadius, rng);
+        onNeumann = false;
+      }
       if (!((x - this->Center).squaredNorm() <= escape2))
       {
         end = WalkEnd::Escaped;
@@ -386,7 +413,8 @@ private:
     at.primitive = z.Primitive;
     at.barycentric = z.Barycentric;
     b.Reflecting().Evaluate(at, this->Inner.data());
-    const double w = factor * green.Value(std::max(r, this->MinDistance)) / z.Pdf;
+    const double w =
+      b.FluxSign() * factor * green.Value(std::max(r, this->MinDistance)) / z.Pdf;
     for (int c = 0; c < this->NumberOfComponents; ++c)
     {
       this->Accumulated[c] += w * this->Inner[c];
@@ -432,6 +460,7 @@ private:
   SourceIntegrator<DIM> Sources;
   Vec<DIM> Center = Vec<DIM>::Zero();
   double MaxRadius = 0.0;
+  double EnclosingRadius = 0.0; // of the sphere about Center holding the boundary
   double EscapeRadius = 0.0;
   double Offset = 0.0;
   double MinDistance = 0.0;

@@ -119,12 +119,13 @@ template <int DIM>
 using RobinRule = std::function<double(const Vec<DIM>&)>;
 
 // The mixed boundary of a shape: primitives for which `isDirichlet(centroid)`
-// holds take g = u, the others h = ∂u/∂n + μu with μ = robin(centroid).
+// holds take g = u, the others h = ∂u/∂n + μu with μ = robin(centroid) (n
+// the shape's outward normal); `exterior` solves outside the shape.
 template <int DIM>
 MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
   const std::function<bool(const Vec<DIM>&)>& isDirichlet, const Field<DIM>& u,
   const Gradient<DIM>& grad, bool silhouettes = true, double fluxScale = 1.0,
-  const RobinRule<DIM>& robin = nullptr)
+  const RobinRule<DIM>& robin = nullptr, bool exterior = false)
 {
   std::vector<BoundaryCondition> conditions;
   std::vector<double> mu;
@@ -170,7 +171,8 @@ MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
         1));
   }
   MixedBoundary<DIM> mixed;
-  mixed.Set(dirichlet, reflecting, robin ? partMu : std::vector<double>(), silhouettes);
+  mixed.Set(dirichlet, reflecting, robin ? partMu : std::vector<double>(), silhouettes, {},
+    exterior);
   return mixed;
 }
 

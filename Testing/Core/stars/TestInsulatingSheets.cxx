@@ -7,16 +7,11 @@
 // point |z| < 5, mean z² in [0.7, 1.4], no back-face hits and no point
 // taken for outside; the same data without the sheet (a plain Dirichlet
 // problem, whose solution is continuous) fails the check.
-#include <gridfree/execution/ParallelExecution.h>
-#include <gridfree/statistics/RunningStatistics.h>
-#include <gridfree/stars/WalkOnStars.h>
-
-#include "EstimatorChecks.h"
 #include "MixedShapes.h"
+#include "StarChecks.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -134,42 +129,20 @@ std::vector<Vec<DIM>> PointsOffTheSheet(int count, std::uint32_t seed)
   return points;
 }
 
+// The sheet problem at `points`; `outside` counts those the boundary's
+// inside test misses.
 template <int DIM>
-Calibration Run(const MixedBoundary<DIM>& b, const std::vector<Vec<DIM>>& points, int walks,
+Calibration Solve(const MixedBoundary<DIM>& b, const std::vector<Vec<DIM>>& points, int walks,
   std::uint64_t& backHits, int& outside)
 {
   WalkSettings settings;
   settings.Epsilon = 1e-4;
-  std::vector<double> mean(points.size()), variance(points.size());
-  std::atomic<std::uint64_t> hits{ 0 };
-  ParallelForWithProgress(points.size(), 2,
-    [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
-      WalkOnStarsEstimator<DIM> estimator(b, settings);
-      RunningStatistics stats(1);
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        const double xyz[3] = { points[i][0], points[i][1], DIM == 3 ? points[i][DIM - 1] : 0.0 };
-        stats.Reset();
-        WalkCounters counters;
-        estimator.EstimatePoint(xyz, 2027, 0, walks, stats, counters);
-        mean[i] = stats.GetMean(0);
-        variance[i] = stats.VarianceOfMean(0);
-      }
-      hits += estimator.BackFaceHits();
-    },
-    nullptr);
-  backHits = hits.load();
   outside = 0;
-  Calibration c;
-  for (std::size_t i = 0; i < points.size(); ++i)
+  for (const Vec<DIM>& p : points)
   {
-    outside += b.Inside(points[i]) ? 0 : 1;
-    const double z = (mean[i] - SlitSolution<DIM>(points[i])) / std::sqrt(variance[i]);
-    c.MeanZ2 += z * z / static_cast<double>(points.size());
-    c.MaxAbsZ = std::max(c.MaxAbsZ, std::isfinite(z) ? std::abs(z) : 1e300);
-    ++c.Points;
+    outside += b.Inside(p) ? 0 : 1;
   }
-  return c;
+  return CalibrateStars<DIM>(b, settings, points, SlitSolution<DIM>, walks, 2027, backHits);
 }
 
 template <int DIM>
@@ -182,13 +155,13 @@ void ExpectSheetSolved(int n, int cuts, int count, int walks)
   int outside = 0;
   const MixedBoundary<DIM> withSheet = SlitBoundary<DIM>(mesh, conditions, true);
   ASSERT_TRUE(withSheet.HasTwoSided());
-  const Calibration c = Run<DIM>(withSheet, points, walks, backHits, outside);
+  const Calibration c = Solve<DIM>(withSheet, points, walks, backHits, outside);
   std::printf("insulating sheet %dD: mean z² %.3f, max |z| %.2f\n", DIM, c.MeanZ2, c.MaxAbsZ);
   ExpectCalibrated(c, count);
   EXPECT_EQ(backHits, 0u);
   EXPECT_EQ(outside, 0);
   const Calibration without =
-    Run<DIM>(SlitBoundary<DIM>(mesh, conditions, false), points, walks, backHits, outside);
+    Solve<DIM>(SlitBoundary<DIM>(mesh, conditions, false), points, walks, backHits, outside);
   std::printf("sheet left out %dD: mean z² %.3f, max |z| %.2f\n", DIM, without.MeanZ2,
     without.MaxAbsZ);
   EXPECT_TRUE(without.MeanZ2 > 2.0 || without.MaxAbsZ > 5.0);
