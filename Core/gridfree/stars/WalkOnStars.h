@@ -358,8 +358,10 @@ private:
   // Adds factor · G(|z − x|) h(z) / pdf(z) for one point z of the Neumann
   // part in the ball that x sees (WoSt-3); nothing when none is drawn. On
   // the Neumann part in 3D (x on primitive `onPrimitive`), z comes from an
-  // even mixture of the hierarchy's sampling and SampleNear on that
-  // primitive, and pdf is the mixture's (one-sample, balance heuristic).
+  // even mixture of the hierarchy's sampling and SampleInPlane in that
+  // primitive's plane, and pdf is the mixture's (one-sample, balance
+  // heuristic). The flux is taken along the domain's outward normal
+  // (FluxSign: an exterior domain's is opposite to the mesh's).
   template <class Green>
   void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
     std::int64_t onPrimitive, double radius, const Green& green, double factor, RandomStream& rng)
