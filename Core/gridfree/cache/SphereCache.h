@@ -42,8 +42,14 @@
 // that no level answers lie within about ShellDistance of the boundary:
 // they are left to pointwise walks (InShell), which are cheap there.
 //
-// Laplace's and Poisson's equations (volume sources) on a closed mesh, in
-// 2D and 3D, with Dirichlet conditions, or with Neumann or Robin parts:
+// The screened equation Δu − k²u = f has the same formula with the
+// screened ball's kernels (ScreenedBallSeries.h: series off the centre);
+// its kernels' means over the sphere are a_0(ρ) and R a_1(ρ) e instead of 1
+// and x − c, so the control variates subtract those.
+//
+// Laplace's, Poisson's and the screened Poisson equation (volume sources)
+// on a closed mesh, in 2D and 3D, with Dirichlet conditions, or with
+// Neumann or Robin parts:
 // then the spheres keep clear of the whole boundary (WholeBoundary.h) and
 // their samples' walks are walks on stars (the problem's own estimator);
 // the shell's points take their derivatives from StarDerivativeWalks.h.
@@ -52,6 +58,7 @@
 
 #include <gridfree/cache/BoundaryValueCache.h>
 #include <gridfree/cache/CacheProblemChecks.h>
+#include <gridfree/cache/ScreenedBallSeries.h>
 #include <gridfree/cache/WholeBoundary.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/problem/Problem.h>
@@ -98,10 +105,15 @@ public:
     , Settings(settings)
   {
     const Equation equation = problem.Settings().Problem;
-    if (equation != Equation::Laplace && equation != Equation::Poisson)
+    if (equation != Equation::Laplace && equation != Equation::Poisson &&
+      equation != Equation::ScreenedPoisson)
     {
       throw std::invalid_argument(
-        "the sphere cache answers Laplace's and Poisson's equation only (yet)");
+        "the sphere cache answers Laplace's, Poisson's and the screened Poisson equation only");
+    }
+    if (equation == Equation::ScreenedPoisson)
+    {
+      this->Screening = std::sqrt(problem.Settings().ScreeningCoefficient);
     }
     RequireVolumeSourcesOnly<DIM>(problem, "the sphere cache");
     if (problem.GetMixedBoundary() && problem.GetMixedBoundary()->HasTwoSided())
@@ -121,7 +133,8 @@ public:
     }
     this->Orientation = OutwardOrientation<DIM>(*this->Shape);
     this->Components = this->Shape->Components();
-    if (equation == Equation::Poisson && sources && sources->MakeVolume)
+    if ((equation == Equation::Poisson || equation == Equation::ScreenedPoisson) && sources &&
+      sources->MakeVolume)
     {
       this->MakeSource = sources->MakeVolume;
     }
@@ -312,6 +325,8 @@ private:
     int Samples = 0;
     std::vector<Vec<DIM>> Points;  // on the sphere
     std::vector<double> Values;    // Samples × components: one walk each
+    // The screened equation's kernels for this radius (null: Laplace's).
+    std::shared_ptr<const ScreenedBallSeries<DIM>> Series;
   };
 
   // The key of a lattice node: level, then the node's indices.
@@ -487,6 +502,11 @@ private:
     s.Key = key;
     s.Centre = this->CentreOf(key);
     s.Radius = this->NodeRadius.at(key);
+    if (this->Screening > 0.0)
+    {
+      s.Series = std::make_shared<const ScreenedBallSeries<DIM>>(
+        this->Screening, s.Radius, this->Settings.Reach);
+    }
     return s;
   }
 
@@ -716,6 +736,33 @@ private:
     // 64 samples per sphere, from 1.5–2.1 to 2.0–2.3 at 16).
     const double slope =
       m >= 128 ? DIM / (R * R * static_cast<double>(m - 1)) : 0.0;
+    // The kernel's exact means over the sphere, E[w] and E[w (s − c)]
+    // (Laplace: 1 and x − c), which the control variates subtract.
+    double meanW = 1.0;
+    Vec<DIM> meanWo = p;
+    // Screened: the kernel per sample (shared by the components), and the
+    // means' x-gradients.
+    thread_local std::vector<double> screenedW;
+    thread_local std::vector<Vec<DIM>> screenedDW;
+    const ScreenedBallSeries<DIM>* series = s.Series.get();
+    typename ScreenedBallSeries<DIM>::Radial radial;
+    Vec<DIM> direction = Vec<DIM>::Unit(0);
+    if (series)
+    {
+      const double rho = std::sqrt(r2);
+      direction = rho > 0.0 ? Vec<DIM>(p / rho) : direction;
+      series->RadialAt(rho, radial);
+      meanW = radial.A[0];
+      meanWo = (R * (radial.Terms > 1 ? radial.A[1] : 0.0)) * direction;
+      screenedW.resize(static_cast<std::size_t>(m));
+      screenedDW.resize(static_cast<std::size_t>(m));
+      for (int k = 0; k < m; ++k)
+      {
+        const Vec<DIM> n = (s.Points[static_cast<std::size_t>(k)] - s.Centre) / R;
+        screenedW[static_cast<std::size_t>(k)] =
+          series->Kernel(radial, direction, n, gradient ? &screenedDW[static_cast<std::size_t>(k)] : nullptr);
+      }
+    }
     for (int c = 0; c < nc; ++c)
     {
       double total = 0.0;
@@ -744,7 +791,12 @@ private:
         // w = |∂B| P(x, s): 3D R(R² − r²)/|x − s|³, 2D (R² − r²)/|x − s|².
         double w;
         Vec<DIM> dw;
-        if constexpr (DIM == 3)
+        if (series)
+        {
+          w = screenedW[static_cast<std::size_t>(k)];
+          dw = gradient ? screenedDW[static_cast<std::size_t>(k)] : Vec<DIM>::Zero();
+        }
+        else if constexpr (DIM == 3)
         {
           const double inv3 = 1.0 / (d2 * std::sqrt(d2));
           w = R * (R * R - r2) * inv3;
@@ -759,13 +811,28 @@ private:
         // exactly (∫P = 1, ∫P (s − c) = x − c, ∫∇ₓP (s − c)ᵀ = I), so
         // both terms subtracted have mean zero; what is left is the
         // spread of u beyond its linear part, and the walks' noise.
+        // (Screened: w u − (w − E[w]) ū − β·(w o − E[w o]), the same
+        // with E[w] = a_0 and E[w o] = R a_1 e; its gradient gains the
+        // means' gradients ∇a_0 ū and ∇(R a_1 e) β.)
         const double residual = u - others - beta.dot(o);
-        const double t = u + (w - 1.0) * (u - others) - beta.dot(w * o - p);
+        const double t = meanW * u + (w - meanW) * (u - others) - beta.dot(w * o - meanWo);
         sum += t;
         squares += t * t;
         if (gradient)
         {
-          const Vec<DIM> g = residual * dw + beta;
+          Vec<DIM> g;
+          if (series)
+          {
+            const double along = direction.dot(beta);
+            const double a1 = radial.Terms > 1 ? radial.D[1] : 0.0;
+            const double b1 = radial.Terms > 1 ? radial.B[1] : 0.0;
+            g = residual * dw + (radial.D[0] * others) * direction +
+              R * (a1 * along * direction + b1 * (beta - along * direction));
+          }
+          else
+          {
+            g = residual * dw + beta;
+          }
           gsum += g;
           gsquares += g.cwiseProduct(g);
         }
@@ -786,7 +853,8 @@ private:
   }
 
   // −∫_B G_B(x, y) f(y) dy (and its x-gradient): f(x) times the exact
-  // ∫ G_B = (R² − r²)/(2·DIM) (∫ ∇ₓG_B = −(x − c)/DIM), plus the
+  // ∫ G_B = (R² − r²)/(2·DIM) (∫ ∇ₓG_B = −(x − c)/DIM; screened:
+  // ScreenedBallSeries::BallIntegral), plus the
   // stratified mean of the samples of G_B (f(y) − f(x)), each stratum's
   // two draws giving its variance.
   void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, bool gradient,
@@ -819,6 +887,13 @@ private:
     std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
     const double a = r / R; // the image point's scaling, |x − c|/R
     const Vec<DIM> e = r > 0.0 ? Vec<DIM>(p / r) : Vec<DIM>::Unit(0);
+    // Screened: G_B = G(|x − y|) − H(x, y) from the series.
+    const ScreenedBallSeries<DIM>* series = s.Series.get();
+    typename ScreenedBallSeries<DIM>::Radial atX, atY;
+    if (series)
+    {
+      series->RadialAt(r, atX);
+    }
     for (int k = 0; k < strata; ++k)
     {
       for (int draw = 0; draw < 2; ++draw)
@@ -849,10 +924,21 @@ private:
         const double b = q.norm() / R;
         const Vec<DIM> image = a * q - R * e; // |image| = |x − c||y − x*|/R
         const Vec<DIM> imageX = b * p - R * (q.norm() > 0.0 ? Vec<DIM>(q / q.norm()) : Vec<DIM>::Unit(0));
-        // G_B and ∇ₓG_B of −Δ in the ball; 1/pdf = |S| t^{DIM−1} T.
+        // G_B and ∇ₓG_B of −Δ (+ k²) in the ball; 1/pdf = |S| t^{DIM−1} T.
         double G, inverse;
         Vec<DIM> dG;
-        if constexpr (DIM == 3)
+        if (series)
+        {
+          const double qn = q.norm();
+          series->RadialAt(qn, atY);
+          Vec<DIM> dH;
+          double slope;
+          G = series->FreeSpace(t, &slope) -
+            series->Regular(atX, atY, e, qn > 0.0 ? Vec<DIM>(q / qn) : Vec<DIM>::Unit(0), &dH);
+          dG = -slope * w - dH;
+          inverse = (DIM == 3 ? 4.0 * kPi * t * t : 2.0 * kPi * t) * T;
+        }
+        else if constexpr (DIM == 3)
         {
           G = (1.0 / t - 1.0 / image.norm()) / (4.0 * kPi);
           dG = (w / (t * t) + b * imageX / std::pow(imageX.norm(), 3)) / (4.0 * kPi);
@@ -885,16 +971,20 @@ private:
       }
     }
     const double K = static_cast<double>(strata);
+    // Screened: ∫_B G_B dy = (1 − a_0)/k², its x-gradient −a_0' e/k².
+    const double ball = series ? series->BallIntegral(r, atX) : 0.0;
+    const Vec<DIM> ballGradient = series ? series->BallIntegralGradient(atX, e) : Vec<DIM>::Zero();
     for (int c = 0; c < nc; ++c)
     {
       const double f = fx[static_cast<std::size_t>(c)];
-      into.Value[static_cast<std::size_t>(c)] +=
-        -f * (R * R - r2) / (2.0 * DIM) + sum[static_cast<std::size_t>(c)] / K;
+      const double exact = series ? -f * ball : -f * (R * R - r2) / (2.0 * DIM);
+      into.Value[static_cast<std::size_t>(c)] += exact + sum[static_cast<std::size_t>(c)] / K;
       into.ValueVariance[static_cast<std::size_t>(c)] += squares[static_cast<std::size_t>(c)] / (K * K);
       for (int d = 0; d < DIM && gradient; ++d)
       {
         const std::size_t v = static_cast<std::size_t>(nc + c * DIM + d);
-        into.Gradient[static_cast<std::size_t>(c * DIM + d)] += f * p[d] / DIM + sum[v] / K;
+        const double exactGradient = series ? -f * ballGradient[d] : f * p[d] / DIM;
+        into.Gradient[static_cast<std::size_t>(c * DIM + d)] += exactGradient + sum[v] / K;
         into.GradientVariance[static_cast<std::size_t>(c * DIM + d)] += squares[v] / (K * K);
       }
     }
@@ -905,6 +995,7 @@ private:
   std::function<std::unique_ptr<VolumeSource<DIM>>(double)> MakeSource;
   int Orientation = 1;
   int Components = 1;
+  double Screening = 0.0; // k = √c of the screened equation (0: Laplace's, Poisson's)
   Vec<DIM> Origin;
   double Coarsest = 1.0;
   int Levels = 1;

@@ -49,6 +49,7 @@ Problem<DIM> ProblemOf(const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with)
   const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(mesh, { with.U }));
   WalkSettings walk = CacheLaplace();
   walk.Problem = with.Kind;
+  walk.ScreeningCoefficient = with.Screening;
   std::shared_ptr<SourceSet<DIM>> sources;
   if (with.F)
   {
@@ -64,14 +65,15 @@ Problem<DIM> ProblemOf(const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with)
 template <int DIM>
 std::size_t PoolSphereCaches(const Problem<DIM>& problem,
   const std::vector<std::array<double, 3>>& points, int caches, const CacheCase<DIM>& with,
-  CachePooled& values, CachePooled& gradients, int samples = DIM == 2 ? 1024 : 512)
+  CachePooled& values, CachePooled& gradients, int samples = DIM == 2 ? 1024 : 512,
+  int sourceSamples = 64)
 {
   std::size_t answered = 0;
   for (int k = 0; k < caches; ++k)
   {
     SphereCacheSettings settings;
     settings.SamplesPerSphere = samples;
-    settings.SourceSamples = 64;
+    settings.SourceSamples = sourceSamples;
     settings.Seed = 500 + static_cast<std::uint64_t>(k);
     SphereCache<DIM> cache(problem, settings);
     CacheEvaluation answer;
@@ -84,12 +86,15 @@ std::size_t PoolSphereCaches(const Problem<DIM>& problem,
 }
 
 template <int DIM>
-void ExpectCalibratedSpheres(const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with, int caches)
+void ExpectCalibratedSpheres(
+  const SimplexMesh<DIM>& mesh, const CacheCase<DIM>& with, int caches, int sourceSamples = 64)
 {
   const Problem<DIM> problem = ProblemOf<DIM>(mesh, with);
   const auto points = CacheProbe<DIM>(40, 0.9);
   CachePooled values, gradients;
-  EXPECT_GE(PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients), 36u);
+  EXPECT_GE(PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients,
+              DIM == 2 ? 1024 : 512, sourceSamples),
+    36u);
   ExpectPooledCalibrated(values, gradients);
 }
 } // namespace
@@ -106,17 +111,26 @@ TEST(SphereCache, PoissonCalibrated)
   ExpectCalibratedSpheres<2>(MakeCircle(1024), SphereCachePoisson<2>(), 24);
 }
 
+// The screened equation (c = 4, u = e^{2x} + |x|², a source): the
+// screened ball's series kernels (ScreenedBallSeries.h) off the centre.
+TEST(SphereCache, ScreenedPoissonCalibrated)
+{
+  ExpectCalibratedSpheres<3>(MakeIcosphere(4), CacheScreened<3>(), 12);
+  ExpectCalibratedSpheres<2>(MakeCircle(1024), CacheScreened<2>(), 24);
+}
+
 // The L of three unit cells (a reflex edge or corner, a shape the tests
 // above do not use), a grid of points inside it down to 0.03 from the
 // boundary, with a source.
 template <int DIM>
-void ExpectSpheresCalibratedInTheL(int caches)
+void ExpectSpheresCalibratedInTheL(int caches,
+  const CacheCase<DIM>& with = SphereCachePoisson<DIM>(), int samples = DIM == 2 ? 1024 : 512)
 {
-  const CacheCase<DIM> with = SphereCachePoisson<DIM>();
   const Problem<DIM> problem = ProblemOf<DIM>(MakeCacheL<DIM>(), with);
   const std::vector<std::array<double, 3>> points = CacheLGrid(0.03, 0.2425, 0.97);
   CachePooled values, gradients;
-  EXPECT_GE(PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients), 20u);
+  EXPECT_GE(
+    PoolSphereCaches<DIM>(problem, points, caches, with, values, gradients, samples), 20u);
   ExpectPooledCalibrated(values, gradients);
 }
 
@@ -124,6 +138,45 @@ TEST(SphereCache, CalibratedInTheL)
 {
   ExpectSpheresCalibratedInTheL<3>(12);
   ExpectSpheresCalibratedInTheL<2>(24);
+}
+
+// Strong screening, c = 100: u = e^{10(x − 1)} + |x|², whose exponential
+// part falls by e^{−10} across the ball, with the source of its |x|².
+template <int DIM>
+CacheCase<DIM> StrongScreening()
+{
+  CacheCase<DIM> with;
+  with.Kind = Equation::ScreenedPoisson;
+  with.Screening = 100.0;
+  with.U = [](const Vec<DIM>& x) { return std::exp(10.0 * (x[0] - 1.0)) + x.squaredNorm(); };
+  with.Gradient = [](const Vec<DIM>& x) {
+    Vec<DIM> g = 2.0 * x;
+    g[0] += 10.0 * std::exp(10.0 * (x[0] - 1.0));
+    return g;
+  };
+  with.F = [](const Vec<DIM>& x) { return 2.0 * DIM - 100.0 * x.squaredNorm(); };
+  return with;
+}
+
+// The screened equation in the L (reflex edge and corner, points down to
+// 0.03 from the boundary), and strong screening in the ball and disc. (In
+// the L, e^{2x} reaches 55 at the far corner, where the screened walks'
+// tail is heaviest: with 512 walks per sphere, 3 of 56 points reached a
+// |z| above 4.5 once in 48 caches, the largest 5.5; with 1,024 none did,
+// mean z² 1.10; in 2D 1,024 reached 4.85 in 24 caches, 2,048 3.8. The
+// mesh's linear interpolation of the data also leaves a bias of 0.1% of u
+// there, 0.2–0.3 standard errors.)
+TEST(SphereCache, ScreenedInTheLAndStrongScreening)
+{
+  ExpectSpheresCalibratedInTheL<3>(12, CacheScreened<3>(), 1024);
+  ExpectSpheresCalibratedInTheL<2>(24, CacheScreened<2>(), 2048);
+  // (The source integral's samples (uniform along rays from x) carry a
+  // heavy tail when G falls as e^{−10 r}: with 64 of them the disc's answers
+  // reached |z| 5.2 in 3,840 (mean z² 1.08–1.15), with 256, the filters'
+  // default, 4.0 (1.02–1.04). Sampling r with density ∝ e^{−kr} made it
+  // worse: the ball's regular part H does not fall with r.)
+  ExpectCalibratedSpheres<3>(MakeIcosphere(4), StrongScreening<3>(), 12, 256);
+  ExpectCalibratedSpheres<2>(MakeCircle(1024), StrongScreening<2>(), 24, 256);
 }
 
 // Neumann and Robin parts (walk on stars from the spheres' samples): the L
@@ -195,51 +248,54 @@ TEST(SphereCache, MixedConditionsCalibrated)
 // A point's answer depends on the point alone: asked alone, after other
 // points, or with one thread or two, the same bits; the spheres it made are
 // reused (no walks the second time).
+// (Poisson's equation and the screened one, whose kernels are series.)
 TEST(SphereCache, AnswersDependOnThePointOnly)
 {
-  const CacheCase<3> with = SphereCachePoisson<3>();
-  const Problem<3> problem = ProblemOf<3>(MakeIcosphere(3), with);
-  const std::vector<std::array<double, 3>> first = { { 0.1, 0.2, 0.3 }, { -0.5, 0.1, 0.0 } };
-  // The second point is a vertex of the mesh: on the boundary, no sphere
-  // holds it.
-  const Vec<3> vertex = MakeIcosphere(3).Vertices[0];
-  const std::vector<std::array<double, 3>> second = { { 0.12, 0.2, 0.28 },
-    { vertex[0], vertex[1], vertex[2] }, { 2.0, 0.0, 0.0 }, { 0.4, -0.4, 0.2 } };
-  CacheEvaluation alone, after, oneThread;
-  SphereCacheSettings settings;
-  settings.SamplesPerSphere = 32;
-  settings.SourceSamples = 32;
+  for (const CacheCase<3>& with : { SphereCachePoisson<3>(), CacheScreened<3>() })
   {
-    SphereCache<3> cache(problem, settings);
-    ASSERT_TRUE(cache.Answer(problem, second, true, alone));
+    const Problem<3> problem = ProblemOf<3>(MakeIcosphere(3), with);
+    const std::vector<std::array<double, 3>> first = { { 0.1, 0.2, 0.3 }, { -0.5, 0.1, 0.0 } };
+    // The second point is a vertex of the mesh: on the boundary, no sphere
+    // holds it.
+    const Vec<3> vertex = MakeIcosphere(3).Vertices[0];
+    const std::vector<std::array<double, 3>> second = { { 0.12, 0.2, 0.28 },
+      { vertex[0], vertex[1], vertex[2] }, { 2.0, 0.0, 0.0 }, { 0.4, -0.4, 0.2 } };
+    CacheEvaluation alone, after, oneThread;
+    SphereCacheSettings settings;
+    settings.SamplesPerSphere = 32;
+    settings.SourceSamples = 32;
+    {
+      SphereCache<3> cache(problem, settings);
+      ASSERT_TRUE(cache.Answer(problem, second, true, alone));
+    }
+    {
+      SphereCache<3> cache(problem, settings);
+      CacheEvaluation ignored;
+      ASSERT_TRUE(cache.Answer(problem, first, true, ignored));
+      const std::uint64_t walks = cache.Walks();
+      EXPECT_GT(walks, 0u);
+      ASSERT_TRUE(cache.Answer(problem, second, true, after));
+      ASSERT_TRUE(cache.Answer(problem, second, true, after));
+      EXPECT_EQ(cache.Walks(), 0u);
+    }
+    {
+      settings.Threads = 1;
+      SphereCache<3> cache(problem, settings);
+      ASSERT_TRUE(cache.Answer(problem, second, true, oneThread));
+    }
+    for (const CacheEvaluation* other : { &after, &oneThread })
+    {
+      EXPECT_EQ(0, std::memcmp(alone.Value.data(), other->Value.data(), alone.Value.size() * 8));
+      EXPECT_EQ(0, std::memcmp(alone.ValueVariance.data(), other->ValueVariance.data(),
+                     alone.ValueVariance.size() * 8));
+      EXPECT_EQ(
+        0, std::memcmp(alone.Gradient.data(), other->Gradient.data(), alone.Gradient.size() * 8));
+    }
+    EXPECT_TRUE(alone.InShell[1] || alone.Outside[1]);
+    EXPECT_EQ(alone.Outside[2], 1);
+    EXPECT_FALSE(alone.InShell[0] || alone.Outside[0] || alone.InShell[3] || alone.Outside[3]);
+    EXPECT_TRUE(std::isnan(alone.Value[1]) && std::isnan(alone.Value[2]));
   }
-  {
-    SphereCache<3> cache(problem, settings);
-    CacheEvaluation ignored;
-    ASSERT_TRUE(cache.Answer(problem, first, true, ignored));
-    const std::uint64_t walks = cache.Walks();
-    EXPECT_GT(walks, 0u);
-    ASSERT_TRUE(cache.Answer(problem, second, true, after));
-    ASSERT_TRUE(cache.Answer(problem, second, true, after));
-    EXPECT_EQ(cache.Walks(), 0u);
-  }
-  {
-    settings.Threads = 1;
-    SphereCache<3> cache(problem, settings);
-    ASSERT_TRUE(cache.Answer(problem, second, true, oneThread));
-  }
-  for (const CacheEvaluation* other : { &after, &oneThread })
-  {
-    EXPECT_EQ(0, std::memcmp(alone.Value.data(), other->Value.data(), alone.Value.size() * 8));
-    EXPECT_EQ(0, std::memcmp(alone.ValueVariance.data(), other->ValueVariance.data(),
-                   alone.ValueVariance.size() * 8));
-    EXPECT_EQ(
-      0, std::memcmp(alone.Gradient.data(), other->Gradient.data(), alone.Gradient.size() * 8));
-  }
-  EXPECT_TRUE(alone.InShell[1] || alone.Outside[1]);
-  EXPECT_EQ(alone.Outside[2], 1);
-  EXPECT_FALSE(alone.InShell[0] || alone.Outside[0] || alone.InShell[3] || alone.Outside[3]);
-  EXPECT_TRUE(std::isnan(alone.Value[1]) && std::isnan(alone.Value[2]));
 }
 
 // A target variance doubles the samples of the spheres whose points are
@@ -314,11 +370,13 @@ TEST(SphereCache, RefusesWhatItCannotAnswer)
   const CacheCase<3> with;
   const auto boundary =
     std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(2), { with.U }));
-  WalkSettings screened = CacheLaplace();
-  screened.Problem = Equation::ScreenedPoisson;
-  screened.ScreeningCoefficient = 2.0;
-  EXPECT_THROW(SphereCache<3>(Problem<3>(boundary, screened), SphereCacheSettings()),
-    std::invalid_argument);
+  // The biharmonic equation (u and its Laplacian: two components).
+  const auto pair =
+    std::make_shared<const Boundary<3>>(MakeBoundary<3>(MakeIcosphere(2), { with.U, with.U }));
+  WalkSettings biharmonic = CacheLaplace();
+  biharmonic.Problem = Equation::Biharmonic;
+  const Problem<3> plate(pair, biharmonic);
+  EXPECT_THROW(SphereCache<3>(plate, SphereCacheSettings()), std::invalid_argument);
   SphereCacheSettings wide;
   wide.Reach = 1.0;
   EXPECT_THROW(SphereCache<3>(Problem<3>(boundary, CacheLaplace()), wide), std::invalid_argument);
