@@ -941,7 +941,7 @@ private:
         else if constexpr (DIM == 3)
         {
           G = (1.0 / t - 1.0 / image.norm()) / (4.0 * kPi);
-          dG = (w / (t * t) + b * imageX / std::pow(imageX.norm(), 3)) / (4.0 * kPi);
+          dG = (w / (t * t) + b * imageX / PowerOf<3>(imageX.norm())) / (4.0 * kPi);
           inverse = 4.0 * kPi * t * t * T;
         }
         else

@@ -68,7 +68,7 @@ class HarmonicGreensFunction
 public:
   explicit HarmonicGreensFunction(double radius)
     : R(radius)
-    , InvRadiusPowN(1.0 / std::pow(radius, DIM))
+    , InvRadiusPowN(1.0 / PowerOf<DIM>(radius))
   {
   }
 

@@ -85,7 +85,7 @@ public:
       const Vec<DIM> omega = SampleUnitSphere<DIM>(rng);
       const Vec<DIM> d = r * omega;
       const double weight =
-        UnitSphereArea<DIM>() * std::pow(r, DIM - 1) / this->RadialDensity(r, radius, z);
+        UnitSphereArea<DIM>() * PowerOf<DIM - 1>(r) / this->RadialDensity(r, radius, z);
       const double g = green.GradientMagnitude(r);
       if (wantHessian)
       {
@@ -203,7 +203,7 @@ private:
       for (;;)
       {
         const double t = rng.NextDouble();
-        if (rng.NextDouble() < 1.0 - std::pow(t, DIM))
+        if (rng.NextDouble() < 1.0 - PowerOf<DIM>(t))
         {
           return std::max(t, 1e-300) * radius;
         }
@@ -222,9 +222,9 @@ private:
   {
     const double n = DIM;
     const double t = r / radius;
-    const double tn = std::pow(t, DIM);
+    const double tn = PowerOf<DIM>(t);
     const int parts = MixtureSize(z);
-    double q = (n + 1.0) / (n * radius) * (1.0 - tn) + n * std::pow(t, DIM - 1) / radius;
+    double q = (n + 1.0) / (n * radius) * (1.0 - tn) + n * PowerOf<DIM - 1>(t) / radius;
     if (parts == 3)
     {
       const double s = z / radius;

@@ -129,7 +129,7 @@ public:
     const double radius = green.Radius();
     if (this->Volume)
     {
-      const double volume = UnitBallVolume<DIM>() * std::pow(radius, DIM);
+      const double volume = UnitBallVolume<DIM>() * PowerOf<DIM>(radius);
       switch (this->Sampling)
       {
         case SourceSampling::Uniform:
