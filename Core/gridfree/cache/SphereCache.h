@@ -47,9 +47,13 @@
 // its kernels' means over the sphere are a_0(ρ) and R a_1(ρ) e instead of 1
 // and x − c, so the control variates subtract those.
 //
-// Laplace's, Poisson's and the screened Poisson equation (volume sources)
-// on a closed mesh, in 2D and 3D, with Dirichlet conditions, or with
-// Neumann or Robin parts:
+// Point sources in a sphere add −s G_B(x, z) exactly; curve sources add
+// −∫ s G_B dl, sampled along each piece in the sphere with density ∝
+// 1/|x − y| (AddConcentratedSources).
+//
+// Laplace's, Poisson's and the screened Poisson equation (volume, point
+// and curve sources) on a closed mesh, in 2D and 3D, with Dirichlet
+// conditions, or with Neumann or Robin parts:
 // then the spheres keep clear of the whole boundary (WholeBoundary.h) and
 // their samples' walks are walks on stars (the problem's own estimator);
 // the shell's points take their derivatives from StarDerivativeWalks.h.
@@ -63,6 +67,7 @@
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sampling/Random.h>
+#include <gridfree/sources/SourceSet.h>
 
 #include <algorithm>
 #include <array>
@@ -90,6 +95,9 @@ struct SphereCacheSettings
   double ShellDistance = 0.02;
   // Samples of the source's ball integral per point (two per stratum).
   int SourceSamples = 256;
+  // Samples of each curve source's piece in a ball per point (two per
+  // stratum).
+  int CurveSamples = 16;
   std::uint64_t Seed = 0;
   int Threads = 0; // 0: all
 };
@@ -115,7 +123,6 @@ public:
     {
       this->Screening = std::sqrt(problem.Settings().ScreeningCoefficient);
     }
-    RequireVolumeSourcesOnly<DIM>(problem, "the sphere cache");
     if (problem.GetMixedBoundary() && problem.GetMixedBoundary()->HasTwoSided())
     {
       // Its inside test reads the side of the whole boundary's closest
@@ -133,11 +140,12 @@ public:
     }
     this->Orientation = OutwardOrientation<DIM>(*this->Shape);
     this->Components = this->Shape->Components();
-    if ((equation == Equation::Poisson || equation == Equation::ScreenedPoisson) && sources &&
-      sources->MakeVolume)
+    const bool withSources = equation == Equation::Poisson || equation == Equation::ScreenedPoisson;
+    if (withSources && sources && sources->MakeVolume)
     {
       this->MakeSource = sources->MakeVolume;
     }
+    this->HasConcentrated = withSources && sources && (sources->Points || sources->Curves);
     // Lattice spacings: the coarsest a quarter of the diagonal, halving
     // until a point ShellDistance deep always finds a sphere (its nearest
     // node is at most h√DIM/2 away, and needs R ≥ that / Reach).
@@ -166,6 +174,10 @@ public:
     const std::size_t n = at.size();
     this->WalksRun = 0;
     out.Reset(n, this->Components, DIM, gradient);
+    // The problem's point and curve sources (it owns them).
+    this->Concentrated = this->HasConcentrated && problem.GetSources()
+      ? problem.GetSources()->Concentrated()
+      : ConcentratedSourceSet<DIM>();
     // Which spheres answer each point (a function of the point alone).
     std::vector<Cover> covers = this->AssignAll(at, out);
     // The spheres not made yet, in key order.
@@ -214,7 +226,7 @@ public:
     // Each point's source integral, made once per call: it depends on the
     // point and its sphere's centre and radius, not on the sphere's walks,
     // so the rounds that grow the walks reuse it.
-    SourceParts sources(this->MakeSource ? n : 0, this->Components);
+    SourceParts sources(this->MakeSource || this->HasConcentrated ? n : 0, this->Components);
     while (true)
     {
       if (!this->EvaluatePoints(at, covers, todo, gradient, sources, out))
@@ -699,13 +711,20 @@ private:
     {
       const SphereData& s = this->Spheres[cover.Spheres[static_cast<std::size_t>(k)]];
       this->EvaluateSphere(x, s, gradient, one);
-      if (source)
+      if (kept)
       {
         // (A point has one sphere: Cover holds one.)
         if (!kept->Made)
         {
           kept->Part.Clear();
-          this->AddSourceIntegral(x, s, gradient, *source, kept->Part);
+          if (source)
+          {
+            this->AddSourceIntegral(x, s, gradient, *source, kept->Part);
+          }
+          if (this->HasConcentrated)
+          {
+            this->AddConcentratedSources(x, s, gradient, kept->Part);
+          }
           kept->Made = true;
         }
         one.Add(1.0, kept->Part);
@@ -852,6 +871,172 @@ private:
     }
   }
 
+  // A point x of a sphere's ball, with what its Green's function needs:
+  // x − c, its length and direction, and (screened) the series' radial
+  // coefficients at |x − c|.
+  struct BallPoint
+  {
+    BallPoint(const Vec<DIM>& x, const SphereData& s)
+      : X(x)
+      , P(x - s.Centre)
+    {
+      this->R2 = this->P.squaredNorm();
+      this->R = std::sqrt(this->R2);
+      this->A = this->R / s.Radius;
+      this->E = this->R > 0.0 ? Vec<DIM>(this->P / this->R) : Vec<DIM>::Unit(0);
+      if (s.Series)
+      {
+        s.Series->RadialAt(this->R, this->AtX);
+      }
+    }
+    Vec<DIM> X, P, E;
+    double R2 = 0.0, R = 0.0;
+    double A = 0.0; // the image point's scaling, |x − c|/R
+    typename ScreenedBallSeries<DIM>::Radial AtX;
+  };
+
+  // The ball's Green's function G_B(x, y) (zero on the sphere) of −Δ, or
+  // of −Δ + k² (G − H from the series), and its x-gradient, for y in the
+  // ball at t = |y − x| along the unit w = (y − x)/t.
+  double BallGreen(const BallPoint& at, const SphereData& s, const Vec<DIM>& y, double t,
+    const Vec<DIM>& w, typename ScreenedBallSeries<DIM>::Radial& atY, Vec<DIM>& dG) const
+  {
+    constexpr double kPi = 3.14159265358979323846;
+    const double R = s.Radius;
+    const Vec<DIM> q = y - s.Centre;
+    if (const ScreenedBallSeries<DIM>* series = s.Series.get())
+    {
+      const double qn = q.norm();
+      series->RadialAt(qn, atY);
+      Vec<DIM> dH;
+      double slope;
+      const double G = series->FreeSpace(t, &slope) -
+        series->Regular(at.AtX, atY, at.E, qn > 0.0 ? Vec<DIM>(q / qn) : Vec<DIM>::Unit(0), &dH);
+      dG = -slope * w - dH;
+      return G;
+    }
+    const double b = q.norm() / R;
+    const Vec<DIM> image = at.A * q - R * at.E; // |image| = |x − c||y − x*|/R
+    const Vec<DIM> imageX =
+      b * at.P - R * (q.norm() > 0.0 ? Vec<DIM>(q / q.norm()) : Vec<DIM>::Unit(0));
+    if constexpr (DIM == 3)
+    {
+      dG = (w / (t * t) + b * imageX / PowerOf<3>(imageX.norm())) / (4.0 * kPi);
+      return (1.0 / t - 1.0 / image.norm()) / (4.0 * kPi);
+    }
+    else
+    {
+      dG = (w / t + b * imageX / imageX.squaredNorm()) / (2.0 * kPi);
+      return (std::log(image.norm()) - std::log(t)) / (2.0 * kPi);
+    }
+  }
+
+  // −Σ s_j G_B(x, z_j) over the point sources in the ball (exact), and
+  // −∫ s G_B(x, y) dl over the curve sources' pieces in it: per piece,
+  // samples with density ∝ 1/|x − y| along its line (ℓ = h sinh u, u
+  // uniform, h the line's distance from x), which cancels G's 1/r in 3D
+  // (2D: its log), stratified in u with two draws per stratum for the
+  // variance. With their x-gradients.
+  void AddConcentratedSources(const Vec<DIM>& x, const SphereData& s, bool gradient,
+    SphereEstimate& into) const
+  {
+    const int nc = this->Components;
+    const BallPoint at(x, s);
+    typename ScreenedBallSeries<DIM>::Radial atY;
+    Vec<DIM> dG;
+    if (const PointSources<DIM>* points = this->Concentrated.Points)
+    {
+      points->ForEachInBall(s.Centre, s.Radius, [&](const Vec<DIM>& z, const double* strength) {
+        const double t = (z - x).norm();
+        const Vec<DIM> w = t > 0.0 ? Vec<DIM>((z - x) / t) : Vec<DIM>::Unit(0);
+        const double G = this->BallGreen(at, s, z, t, w, atY, dG);
+        for (int c = 0; c < nc; ++c)
+        {
+          into.Value[static_cast<std::size_t>(c)] -= strength[c] * G;
+          for (int d = 0; d < DIM && gradient; ++d)
+          {
+            into.Gradient[static_cast<std::size_t>(c * DIM + d)] -= strength[c] * dG[d];
+          }
+        }
+      });
+    }
+    const CurveSources<DIM>* curves = this->Concentrated.Curves;
+    if (!curves)
+    {
+      return;
+    }
+    double pointCoordinates[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < DIM; ++k)
+    {
+      pointCoordinates[k] = x[k];
+    }
+    const std::uint64_t key =
+      HashCombine(PointKey(this->Settings.Seed ^ 0x9b05688c2b3e6c1fULL, pointCoordinates), s.Key);
+    const int strata = std::max(1, this->Settings.CurveSamples / 2);
+    std::vector<double> first(static_cast<std::size_t>(nc * (1 + DIM)), 0.0), term(first.size());
+    typename CurveSources<DIM>::Scratch scratch;
+    curves->ForEachPieceInBall(s.Centre, s.Radius, scratch,
+      [&](std::uint32_t segment, const Vec<DIM>& a, const Vec<DIM>& d, double t0, double t1,
+        const double* s0, const double* s1) {
+        const double length = d.norm();
+        const Vec<DIM> along = d / length;
+        // The line's foot from x, its distance h, and the piece's ends in
+        // arc length from the foot.
+        const double foot = (x - a).dot(along);
+        const double h = std::max((a + foot * along - x).norm(), 1e-12 * s.Radius);
+        const double u0 = std::asinh((t0 * length - foot) / h);
+        const double u1 = std::asinh((t1 * length - foot) / h);
+        const double width = (u1 - u0) / strata;
+        std::vector<double> sum(first.size(), 0.0), squares(first.size(), 0.0);
+        for (int k = 0; k < strata; ++k)
+        {
+          for (int draw = 0; draw < 2; ++draw)
+          {
+            RandomStream random(HashCombine(key, segment), static_cast<std::uint64_t>(2 * k + draw));
+            const double u = u0 + width * (k + random.NextDouble());
+            const double l = foot + h * std::sinh(u);
+            const double t = std::clamp(l / length, t0, t1);
+            const Vec<DIM> y = a + t * d;
+            const double r = (y - x).norm();
+            const Vec<DIM> w = r > 0.0 ? Vec<DIM>((y - x) / r) : along;
+            const double G = this->BallGreen(at, s, y, r, w, atY, dG);
+            // dl = h cosh u du = |x − y| du (per unit of u).
+            const double jacobian = h * std::cosh(u);
+            for (int c = 0; c < nc; ++c)
+            {
+              const double strength = (1.0 - t) * s0[c] + t * s1[c];
+              term[static_cast<std::size_t>(c)] = -strength * G * jacobian;
+              for (int e = 0; e < DIM && gradient; ++e)
+              {
+                term[static_cast<std::size_t>(nc + c * DIM + e)] = -strength * dG[e] * jacobian;
+              }
+            }
+            if (draw == 0)
+            {
+              first = term;
+            }
+          }
+          for (std::size_t v = 0; v < term.size(); ++v)
+          {
+            sum[v] += 0.5 * (first[v] + term[v]);
+            squares[v] += 0.25 * (first[v] - term[v]) * (first[v] - term[v]);
+          }
+        }
+        for (int c = 0; c < nc; ++c)
+        {
+          into.Value[static_cast<std::size_t>(c)] += width * sum[static_cast<std::size_t>(c)];
+          into.ValueVariance[static_cast<std::size_t>(c)] +=
+            width * width * squares[static_cast<std::size_t>(c)];
+          for (int e = 0; e < DIM && gradient; ++e)
+          {
+            const std::size_t v = static_cast<std::size_t>(nc + c * DIM + e);
+            into.Gradient[static_cast<std::size_t>(c * DIM + e)] += width * sum[v];
+            into.GradientVariance[static_cast<std::size_t>(c * DIM + e)] += width * width * squares[v];
+          }
+        }
+      });
+  }
+
   // −∫_B G_B(x, y) f(y) dy (and its x-gradient): f(x) times the exact
   // ∫ G_B = (R² − r²)/(2·DIM) (∫ ∇ₓG_B = −(x − c)/DIM; screened:
   // ScreenedBallSeries::BallIntegral), plus the
@@ -885,15 +1070,9 @@ private:
     // Per component: sum and squares of the strata's means, value then gradient.
     std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
     std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
-    const double a = r / R; // the image point's scaling, |x − c|/R
-    const Vec<DIM> e = r > 0.0 ? Vec<DIM>(p / r) : Vec<DIM>::Unit(0);
-    // Screened: G_B = G(|x − y|) − H(x, y) from the series.
+    const BallPoint at(x, s);
     const ScreenedBallSeries<DIM>* series = s.Series.get();
-    typename ScreenedBallSeries<DIM>::Radial atX, atY;
-    if (series)
-    {
-      series->RadialAt(r, atX);
-    }
+    typename ScreenedBallSeries<DIM>::Radial atY;
     for (int k = 0; k < strata; ++k)
     {
       for (int draw = 0; draw < 2; ++draw)
@@ -920,36 +1099,10 @@ private:
         const double t = T * random.NextDouble();
         const Vec<DIM> y = x + t * w;
         source.Evaluate(y, fy.data());
-        const Vec<DIM> q = y - s.Centre;
-        const double b = q.norm() / R;
-        const Vec<DIM> image = a * q - R * e; // |image| = |x − c||y − x*|/R
-        const Vec<DIM> imageX = b * p - R * (q.norm() > 0.0 ? Vec<DIM>(q / q.norm()) : Vec<DIM>::Unit(0));
-        // G_B and ∇ₓG_B of −Δ (+ k²) in the ball; 1/pdf = |S| t^{DIM−1} T.
-        double G, inverse;
+        // G_B and ∇ₓG_B in the ball; 1/pdf = |S| t^{DIM−1} T.
         Vec<DIM> dG;
-        if (series)
-        {
-          const double qn = q.norm();
-          series->RadialAt(qn, atY);
-          Vec<DIM> dH;
-          double slope;
-          G = series->FreeSpace(t, &slope) -
-            series->Regular(atX, atY, e, qn > 0.0 ? Vec<DIM>(q / qn) : Vec<DIM>::Unit(0), &dH);
-          dG = -slope * w - dH;
-          inverse = (DIM == 3 ? 4.0 * kPi * t * t : 2.0 * kPi * t) * T;
-        }
-        else if constexpr (DIM == 3)
-        {
-          G = (1.0 / t - 1.0 / image.norm()) / (4.0 * kPi);
-          dG = (w / (t * t) + b * imageX / PowerOf<3>(imageX.norm())) / (4.0 * kPi);
-          inverse = 4.0 * kPi * t * t * T;
-        }
-        else
-        {
-          G = (std::log(image.norm()) - std::log(t)) / (2.0 * kPi);
-          dG = (w / t + b * imageX / imageX.squaredNorm()) / (2.0 * kPi);
-          inverse = 2.0 * kPi * t * T;
-        }
+        const double G = this->BallGreen(at, s, y, t, w, atY, dG);
+        const double inverse = (DIM == 3 ? 4.0 * kPi * t * t : 2.0 * kPi * t) * T;
         for (int c = 0; c < nc; ++c)
         {
           const double df = fy[static_cast<std::size_t>(c)] - fx[static_cast<std::size_t>(c)];
@@ -972,8 +1125,9 @@ private:
     }
     const double K = static_cast<double>(strata);
     // Screened: ∫_B G_B dy = (1 − a_0)/k², its x-gradient −a_0' e/k².
-    const double ball = series ? series->BallIntegral(r, atX) : 0.0;
-    const Vec<DIM> ballGradient = series ? series->BallIntegralGradient(atX, e) : Vec<DIM>::Zero();
+    const double ball = series ? series->BallIntegral(r, at.AtX) : 0.0;
+    const Vec<DIM> ballGradient =
+      series ? series->BallIntegralGradient(at.AtX, at.E) : Vec<DIM>::Zero();
     for (int c = 0; c < nc; ++c)
     {
       const double f = fx[static_cast<std::size_t>(c)];
@@ -993,6 +1147,8 @@ private:
   std::shared_ptr<const Boundary<DIM>> Shape;
   SphereCacheSettings Settings;
   std::function<std::unique_ptr<VolumeSource<DIM>>(double)> MakeSource;
+  bool HasConcentrated = false;
+  ConcentratedSourceSet<DIM> Concentrated; // the problem's, during an Answer
   int Orientation = 1;
   int Components = 1;
   double Screening = 0.0; // k = √c of the screened equation (0: Laplace's, Poisson's)

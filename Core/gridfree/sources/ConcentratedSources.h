@@ -286,6 +286,24 @@ public:
     return this->Clip(x, radius, scratch);
   }
 
+  /// Calls visit(index, a, d, t0, t1, s0, s1) for every piece of a segment
+  /// inside the open ball B(x, radius): the segment a + t d, t in [t0, t1],
+  /// with the strengths s0 at t = 0 and s1 at t = 1 (Components() numbers
+  /// each, linear between); `index` names the segment.
+  template <class Visit>
+  void ForEachPieceInBall(const Vec<DIM>& x, double radius, Scratch& scratch, Visit&& visit) const
+  {
+    this->Clip(x, radius, scratch);
+    const std::size_t nc = static_cast<std::size_t>(this->NumberOfComponents);
+    for (const auto& piece : scratch.Pieces)
+    {
+      const SegmentData& s = this->Segments[piece.Segment];
+      visit(piece.Segment, s.A, s.D, piece.T0, piece.T1,
+        this->Strengths.data() + static_cast<std::size_t>(s.V0) * nc,
+        this->Strengths.data() + static_cast<std::size_t>(s.V1) * nc);
+    }
+  }
+
 private:
   struct SegmentData
   {

@@ -8,6 +8,7 @@
 // the estimate must match it.
 #include <gridfree/sources/ConcentratedSources.h>
 #include "EstimatorChecks.h"
+#include "SourcePotentials.h"
 
 #include <gtest/gtest.h>
 
@@ -17,12 +18,6 @@ using namespace gridfree::testing;
 namespace
 {
 constexpr int Points = 400;
-
-template <int DIM>
-double Fundamental(double r)
-{
-  return DIM == 3 ? -1.0 / (4.0 * M_PI * r) : std::log(r) / (2.0 * M_PI);
-}
 
 template <int DIM>
 Vec<DIM> Point(double x, double y, double z)
@@ -76,37 +71,6 @@ void CheckPointSources(std::uint64_t seed)
     CheckEstimator<DIM>(boundary, settings, points, { u }, 512, seed, nullptr, set)[0], Points);
 }
 
-// u of a straight curve source from a to b with strength linear from sa to
-// sb, by Gauss–Legendre quadrature on many panels (x is away from the curve).
-template <int DIM>
-double CurvePotential(const Vec<DIM>& x, const Vec<DIM>& a, const Vec<DIM>& b, double sa, double sb)
-{
-  static const double nodes[4] = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
-    0.8611363115940526 };
-  static const double weights[4] = { 0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
-    0.3478548451374538 };
-  const int panels = 400;
-  const double length = (b - a).norm();
-  double sum = 0.0;
-  for (int p = 0; p < panels; ++p)
-  {
-    for (int q = 0; q < 4; ++q)
-    {
-      const double t = (p + 0.5 * (nodes[q] + 1.0)) / panels;
-      const Vec<DIM> y = a + t * (b - a);
-      sum += weights[q] * 0.5 / panels * (sa + t * (sb - sa)) * Fundamental<DIM>((x - y).norm());
-    }
-  }
-  return sum * length;
-}
-
-template <int DIM>
-double DistanceToSegment(const Vec<DIM>& x, const Vec<DIM>& a, const Vec<DIM>& b)
-{
-  const double t = std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-  return (x - (a + t * (b - a))).norm();
-}
-
 template <int DIM>
 void CheckCurveSource(std::uint64_t seed)
 {
@@ -139,35 +103,6 @@ void CheckCurveSource(std::uint64_t seed)
   ExpectCalibrated(
     CheckEstimator<DIM>(boundary, settings, points, { u }, 512, seed, nullptr, set)[0], Points);
 }
-// Gradient and Hessian of the same curve potential, by the same quadrature
-// of ∇Φ(d) = d/(|S| rⁿ) and ∇²Φ(d) = (I − n d̂ d̂ᵀ)/(|S| rⁿ), d = x − y.
-template <int DIM>
-void CurvePotentialDerivatives(const Vec<DIM>& x, const Vec<DIM>& a, const Vec<DIM>& b,
-  double sa, double sb, Vec<DIM>& gradient, Mat<DIM>& hessian)
-{
-  static const double nodes[4] = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
-    0.8611363115940526 };
-  static const double weights[4] = { 0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
-    0.3478548451374538 };
-  const int panels = 400;
-  const double length = (b - a).norm();
-  gradient.setZero();
-  hessian.setZero();
-  for (int p = 0; p < panels; ++p)
-  {
-    for (int q = 0; q < 4; ++q)
-    {
-      const double t = (p + 0.5 * (nodes[q] + 1.0)) / panels;
-      const Vec<DIM> d = x - (a + t * (b - a));
-      const double r = d.norm();
-      const double w = weights[q] * 0.5 / panels * (sa + t * (sb - sa)) * length /
-        (UnitSphereArea<DIM>() * std::pow(r, DIM));
-      gradient += w * d;
-      hessian += w * (Mat<DIM>::Identity() - DIM * d * d.transpose() / (r * r));
-    }
-  }
-}
-
 // The gradient and Hessian estimators with a curve source (one sample of
 // L·s(z)·∇G and L·s(z)·∇²G per first ball): every component calibrated.
 template <int DIM>
