@@ -93,9 +93,14 @@ inline double LargestAnsweredVariance(const CacheEvaluation& e)
 // The boundary value cache into `slot`: built, reused or grown, then asked.
 template <int DIM>
 bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
-  const BatchProgressCallback& progress, CacheAnswers& out)
+  const std::vector<std::array<double, 3>>& points, const CacheDerivatives& want, double target,
+  bool keepGrown, const BatchProgressCallback& progress, CacheAnswers& out)
 {
+  if (want.Hessian)
+  {
+    throw std::invalid_argument("it gives the value and the gradient, not the Hessian");
+  }
+  const bool gradient = want.Gradient;
   std::shared_ptr<BoundaryValueCache<DIM>>& cache = slot.BoundaryCache<DIM>();
   const BoundaryCacheSettings settings = BoundaryCacheSettingsOf(s);
   // A fixed-count solve asking for fewer walks than the cache holds gets
@@ -144,8 +149,8 @@ bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const
 // points need, and grows them to a target).
 template <int DIM>
 bool AnswerFromSphereCache(const Problem<DIM>& problem, CacheSlot& slot, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
-  const BatchProgressCallback& progress, CacheAnswers& out)
+  const std::vector<std::array<double, 3>>& points, const CacheDerivatives& want, double target,
+  bool keepGrown, const BatchProgressCallback& progress, CacheAnswers& out)
 {
   std::shared_ptr<SphereCache<DIM>>& cache = slot.Spheres<DIM>();
   const SphereCacheSettings settings = SphereCacheSettingsOf(s);
@@ -164,7 +169,7 @@ bool AnswerFromSphereCache(const Problem<DIM>& problem, CacheSlot& slot, const S
   cache->SetSamplesPerSphere(std::max(cache->SamplesPerSphere(), settings.SamplesPerSphere));
   const int most = std::max(s.WalksPerPoint, settings.SamplesPerSphere);
   const bool done =
-    cache->Answer(problem, points, gradient, out.Answers, target * target, most, progress);
+    cache->Answer(problem, points, want, out.Answers, target * target, most, progress);
   out.WalksRun += cache->Walks();
   if (!done)
   {
@@ -186,8 +191,8 @@ bool AnswerFromSphereCache(const Problem<DIM>& problem, CacheSlot& slot, const S
 // (the slot keeps what was run, and the next batch continues from it).
 template <int DIM>
 bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings& s,
-  const std::vector<std::array<double, 3>>& points, bool gradient, double target, bool keepGrown,
-  const BatchProgressCallback& progress, CacheAnswers& out)
+  const std::vector<std::array<double, 3>>& points, const CacheDerivatives& want, double target,
+  bool keepGrown, const BatchProgressCallback& progress, CacheAnswers& out)
 {
   const auto start = std::chrono::steady_clock::now();
   const Problem<DIM>& problem = built.Get<DIM>();
@@ -196,9 +201,9 @@ bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveS
   {
     const bool done = spheres
       ? detail::AnswerFromSphereCache<DIM>(
-          problem, *built.Caches, s, points, gradient, target, keepGrown, progress, out)
+          problem, *built.Caches, s, points, want, target, keepGrown, progress, out)
       : detail::AnswerFromBoundaryCache<DIM>(
-          problem, *built.Caches, s, points, gradient, target, keepGrown, progress, out);
+          problem, *built.Caches, s, points, want, target, keepGrown, progress, out);
     if (!done)
     {
       return false;

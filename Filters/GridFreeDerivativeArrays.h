@@ -120,6 +120,28 @@ struct DerivativeArrays
     this->Status->SetValue(id, 0); // DerivativeStatus::Interior
   }
 
+  // A cache's Hessian at point `id` (components × DIM × DIM, with their
+  // variances) into the 3 × 3 tuples.
+  template <int DIM>
+  void StoreHessian(vtkIdType id, const std::vector<double>& hessian,
+    const std::vector<double>& variance, int nc)
+  {
+    for (int c = 0; c < nc && this->Hessian; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        for (int b = 0; b < 3; ++b)
+        {
+          const bool inside = a < DIM && b < DIM;
+          const std::size_t at = static_cast<std::size_t>(((id * nc + c) * DIM + a) * DIM + b);
+          const vtkIdType slot = id * 9 * nc + 9 * c + 3 * a + b;
+          this->Hessian->SetValue(slot, inside ? hessian[at] : 0.0);
+          this->HessianVariance->SetValue(slot, inside ? variance[at] : 0.0);
+        }
+      }
+    }
+  }
+
   // Points without a derivative (no ball found, no walk run before an
   // abort, a probe point with NaN coordinates) get 0, not NaN, as
   // DerivativeStatus 2 says: VTK's stream tracer asserts on a NaN vector

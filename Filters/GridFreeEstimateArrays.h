@@ -162,7 +162,14 @@ struct EstimateArrays
       this->Truncated->SetValue(i, 0.0);
       if (this->AnyDerivative)
       {
-        this->Derivatives.StoreGradient<DIM>(i, e.Gradient, e.GradientVariance, nc);
+        if (!e.Gradient.empty())
+        {
+          this->Derivatives.StoreGradient<DIM>(i, e.Gradient, e.GradientVariance, nc);
+        }
+        if (!e.Hessian.empty())
+        {
+          this->Derivatives.StoreHessian<DIM>(i, e.Hessian, e.HessianVariance, nc);
+        }
       }
     }
   }

@@ -582,6 +582,12 @@ struct NumberStorage
           b.Means[i * size + slot] = e.Gradient[(i * nc + c) * DIM + a];
           b.Variances[i * size + slot] = e.GradientVariance[(i * nc + c) * DIM + a];
         }
+        for (int a = 0; a < DIM * DIM && layout.Hessian >= 0 && !e.Hessian.empty(); ++a)
+        {
+          const std::size_t slot = static_cast<std::size_t>(layout.Hessian + c * DIM * DIM + a);
+          b.Means[i * size + slot] = e.Hessian[(i * nc + c) * DIM * DIM + a];
+          b.Variances[i * size + slot] = e.HessianVariance[(i * nc + c) * DIM * DIM + a];
+        }
       }
     }
   }
@@ -654,11 +660,12 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
 
   const bool cacheChosen = s.Estimator != Estimator::PointwiseWalks && built.Caches;
   const DerivativeRequest derivatives = DerivativesOf(s, nc, cacheChosen);
-  if (cacheChosen && (derivatives.Hessian || derivatives.Directional))
+  if (cacheChosen && derivatives.Directional)
   {
-    vtkErrorWithObjectMacro(self, << "The cache estimators give the value and the gradient: "
-                                     "turn ComputeHessian and ComputeDirectionalDerivative off, "
-                                     "or choose the Pointwise Walks estimator.");
+    vtkErrorWithObjectMacro(self, << "The cache estimators give the value, the gradient and "
+                                     "(Sphere Cache) the Hessian: turn "
+                                     "ComputeDirectionalDerivative off, or choose the Pointwise "
+                                     "Walks estimator.");
     result.Completed = false;
     return false;
   }
@@ -684,7 +691,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     cacheRun.ProgressEnd = walkRun.ProgressBegin =
       run.ProgressBegin + 0.8 * (run.ProgressEnd - run.ProgressBegin);
     ProgressReporter cacheProgress(self, cacheRun, warn, numPoints, s.WalksPerCachePoint, 0.0);
-    if (!AnswerFromCache<DIM>(self, built, s, points, derivatives.Gradient, target,
+    CacheDerivatives want(derivatives.Gradient);
+    want.Hessian = derivatives.Hessian;
+    if (!AnswerFromCache<DIM>(self, built, s, points, want, target,
           run.KeepGrownCaches, std::ref(cacheProgress), cached))
     {
       result.Completed = false;

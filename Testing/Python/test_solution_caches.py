@@ -173,6 +173,34 @@ def test_the_sphere_cache_answers_the_screened_equation():
     assert field(solver.GetOutput(), "CacheWalksRun") == field(solver.GetOutput(), "CacheWalks")
 
 
+def test_the_sphere_cache_gives_hessians():
+    """ComputeHessian with the Sphere Cache: T_Hessian and its variance from
+    the spheres' kernels (∇ₓ²P), within their error bars of diag(2, −2, 0),
+    mean z² near 1; points in the shell take theirs from their walks."""
+    boundary = sphere_boundary(harmonic, resolution=48)
+    solver = cache_solver(boundary, plane(0.1), SPHERES, ComputeHessian=True,
+                          WalksPerSphere=512, WalksPerPoint=512)
+    solver.Update()
+    out = solver.GetOutput()
+    pd = out.GetPointData()
+    hessian, variance = pd.GetArray("T_Hessian"), pd.GetArray("T_Hessian_Variance")
+    exact = (2.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, 0.0)
+    squares = []
+    answered = 0
+    for i in range(out.GetNumberOfPoints()):
+        if math.sqrt(sum(c * c for c in out.GetPoint(i))) > 1.0:
+            continue
+        answered += pd.GetArray("FromBoundaryCache").GetValue(i)
+        h, v = hessian.GetTuple9(i), variance.GetTuple9(i)
+        for k in range(9):
+            if v[k] > 0.0:
+                z = (h[k] - exact[k]) / math.sqrt(v[k])
+                assert abs(z) < 5.0, (i, k, z)
+                squares.append(z * z)
+    assert answered > 30 and len(squares) > 9 * 30
+    assert 0.6 < sum(squares) / len(squares) < 1.5, sum(squares) / len(squares)
+
+
 def test_a_moved_probe_reuses_the_cache_with_the_numbers_of_a_fresh_solve():
     boundary = sphere_boundary(harmonic, resolution=48)
     probe = plane(0.0, resolution=5)
@@ -315,7 +343,13 @@ def test_what_the_cache_cannot_answer_is_refused_in_words():
     solver = cache_solver(boundary, plane(0.0, resolution=2), ComputeHessian=True)
     catcher = MessageCatcher(solver)
     solver.Update()
-    assert "ComputeHessian" in catcher.error_text()
+    assert "Estimator Boundary Cache" in catcher.error_text()
+    assert "not the Hessian" in catcher.error_text()
+    solver = cache_solver(boundary, plane(0.0, resolution=2), SPHERES, ComputeHessian=True,
+                          ComputeDirectionalDerivative=True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert "ComputeDirectionalDerivative" in catcher.error_text()
     solver = cache_solver(boundary, plane(0.0, resolution=2))
     solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.BIHARMONIC)
     solver.SetInputArrayToProcess(1, 0, 0, POINTS, "T")

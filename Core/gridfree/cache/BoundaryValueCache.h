@@ -81,21 +81,37 @@ struct BoundaryCacheSettings
 // variances of their means; NaN, with Outside 1, for points outside, and
 // with InShell 1 for points inside closer to the boundary than the shell
 // distance.
+// What a cache answers besides the value (a bool asks for the gradient).
+struct CacheDerivatives
+{
+  CacheDerivatives(bool gradient = false) // NOLINT: implicit on purpose
+    : Gradient(gradient)
+  {
+  }
+  bool Gradient = false;
+  bool Hessian = false;
+};
+
 struct CacheEvaluation
 {
   std::vector<double> Value, ValueVariance;       // points × components
   std::vector<double> Gradient, GradientVariance; // points × components × DIM
+  std::vector<double> Hessian, HessianVariance;   // points × components × DIM × DIM
   std::vector<unsigned char> InShell, Outside;
 
   // `n` points of `nc` components, every answer NaN, no flags.
-  void Reset(std::size_t n, int nc, int dim, bool gradient)
+  void Reset(std::size_t n, int nc, int dim, const CacheDerivatives& want)
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const std::size_t values = n * static_cast<std::size_t>(nc);
+    const std::size_t gradients = want.Gradient ? values * static_cast<std::size_t>(dim) : 0;
+    const std::size_t hessians = want.Hessian ? values * static_cast<std::size_t>(dim * dim) : 0;
     this->Value.assign(values, nan);
     this->ValueVariance.assign(values, nan);
-    this->Gradient.assign(gradient ? values * static_cast<std::size_t>(dim) : 0, nan);
-    this->GradientVariance.assign(gradient ? values * static_cast<std::size_t>(dim) : 0, nan);
+    this->Gradient.assign(gradients, nan);
+    this->GradientVariance.assign(gradients, nan);
+    this->Hessian.assign(hessians, nan);
+    this->HessianVariance.assign(hessians, nan);
     this->InShell.assign(n, 0);
     this->Outside.assign(n, 0);
   }

@@ -168,12 +168,17 @@ public:
   // up to `mostSamples` per sphere. False when aborted (the spheres made
   // stay, the answers are NaN).
   bool Answer(const Problem<DIM>& problem, const std::vector<std::array<double, 3>>& at,
-    bool gradient, CacheEvaluation& out, double targetVariance = 0.0, int mostSamples = 0,
-    const BatchProgressCallback& progress = BatchProgressCallback())
+    const CacheDerivatives& want, CacheEvaluation& out, double targetVariance = 0.0,
+    int mostSamples = 0, const BatchProgressCallback& progress = BatchProgressCallback())
   {
+    if (want.Hessian && this->Screening > 0.0)
+    {
+      throw std::invalid_argument("the sphere cache gives the screened equation's value and "
+                                  "gradient, not its Hessian (yet)");
+    }
     const std::size_t n = at.size();
     this->WalksRun = 0;
-    out.Reset(n, this->Components, DIM, gradient);
+    out.Reset(n, this->Components, DIM, want);
     // The problem's point and curve sources (it owns them).
     this->Concentrated = this->HasConcentrated && problem.GetSources()
       ? problem.GetSources()->Concentrated()
@@ -229,7 +234,7 @@ public:
     SourceParts sources(this->MakeSource || this->HasConcentrated ? n : 0, this->Components);
     while (true)
     {
-      if (!this->EvaluatePoints(at, covers, todo, gradient, sources, out))
+      if (!this->EvaluatePoints(at, covers, todo, want, sources, out))
       {
         return false;
       }
@@ -599,13 +604,16 @@ private:
       , ValueVariance(static_cast<std::size_t>(nc))
       , Gradient(static_cast<std::size_t>(nc * DIM))
       , GradientVariance(static_cast<std::size_t>(nc * DIM))
+      , Hessian(static_cast<std::size_t>(nc * DIM * DIM))
+      , HessianVariance(static_cast<std::size_t>(nc * DIM * DIM))
     {
     }
-    std::vector<double> Value, ValueVariance, Gradient, GradientVariance;
+    std::vector<double> Value, ValueVariance, Gradient, GradientVariance, Hessian, HessianVariance;
 
     void Clear()
     {
-      for (std::vector<double>* v : { &Value, &ValueVariance, &Gradient, &GradientVariance })
+      for (std::vector<double>* v :
+        { &Value, &ValueVariance, &Gradient, &GradientVariance, &Hessian, &HessianVariance })
       {
         std::fill(v->begin(), v->end(), 0.0);
       }
@@ -623,9 +631,15 @@ private:
         Gradient[k] += a * other.Gradient[k];
         GradientVariance[k] += a * a * other.GradientVariance[k];
       }
+      for (std::size_t k = 0; k < Hessian.size(); ++k)
+      {
+        Hessian[k] += a * other.Hessian[k];
+        HessianVariance[k] += a * a * other.HessianVariance[k];
+      }
     }
-    void WriteTo(CacheEvaluation& out, std::size_t i, bool gradient) const
+    void WriteTo(CacheEvaluation& out, std::size_t i, const CacheDerivatives& want) const
     {
+      const bool gradient = want.Gradient;
       std::copy(Value.begin(), Value.end(), out.Value.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
       std::copy(ValueVariance.begin(), ValueVariance.end(),
         out.ValueVariance.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
@@ -635,6 +649,13 @@ private:
           out.Gradient.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
         std::copy(GradientVariance.begin(), GradientVariance.end(),
           out.GradientVariance.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
+      }
+      if (want.Hessian)
+      {
+        std::copy(Hessian.begin(), Hessian.end(),
+          out.Hessian.begin() + static_cast<std::ptrdiff_t>(i * Hessian.size()));
+        std::copy(HessianVariance.begin(), HessianVariance.end(),
+          out.HessianVariance.begin() + static_cast<std::ptrdiff_t>(i * Hessian.size()));
       }
     }
   };
@@ -662,8 +683,8 @@ private:
 
   // The answers at the points marked in `todo`.
   bool EvaluatePoints(const std::vector<std::array<double, 3>>& at,
-    const std::vector<Cover>& covers, const std::vector<unsigned char>& todo, bool gradient,
-    SourceParts& sources, CacheEvaluation& out) const
+    const std::vector<Cover>& covers, const std::vector<unsigned char>& todo,
+    const CacheDerivatives& want, SourceParts& sources, CacheEvaluation& out) const
   {
     return ParallelForWithProgress(
       at.size(), this->Settings.Threads,
@@ -675,9 +696,8 @@ private:
         {
           if (todo[i] && covers[i].Count > 0)
           {
-            this->EvaluatePoint(
-              at[i], covers[i], gradient, source.get(), sources.Of(i), one, blend);
-            blend.WriteTo(out, i, gradient);
+            this->EvaluatePoint(at[i], covers[i], want, source.get(), sources.Of(i), one, blend);
+            blend.WriteTo(out, i, want);
           }
         }
       },
@@ -689,8 +709,9 @@ private:
   // are independent, so the blend is too, with the weights' squares on the
   // variances; a weight that falls to zero at the edge of a sphere's reach
   // makes the answer change smoothly where a sphere joins or leaves.
-  void EvaluatePoint(const std::array<double, 3>& p, const Cover& cover, bool gradient,
-    VolumeSource<DIM>* source, SourcePart* kept, SphereEstimate& one, SphereEstimate& blend) const
+  void EvaluatePoint(const std::array<double, 3>& p, const Cover& cover,
+    const CacheDerivatives& want, VolumeSource<DIM>* source, SourcePart* kept, SphereEstimate& one,
+    SphereEstimate& blend) const
   {
     Vec<DIM> x;
     for (int k = 0; k < DIM; ++k)
@@ -710,7 +731,7 @@ private:
     for (int k = 0; k < cover.Count; ++k)
     {
       const SphereData& s = this->Spheres[cover.Spheres[static_cast<std::size_t>(k)]];
-      this->EvaluateSphere(x, s, gradient, one);
+      this->EvaluateSphere(x, s, want, one);
       if (kept)
       {
         // (A point has one sphere: Cover holds one.)
@@ -719,11 +740,11 @@ private:
           kept->Part.Clear();
           if (source)
           {
-            this->AddSourceIntegral(x, s, gradient, *source, kept->Part);
+            this->AddSourceIntegral(x, s, want, *source, kept->Part);
           }
           if (this->HasConcentrated)
           {
-            this->AddConcentratedSources(x, s, gradient, kept->Part);
+            this->AddConcentratedSources(x, s, want, kept->Part);
           }
           kept->Made = true;
         }
@@ -735,8 +756,13 @@ private:
 
   // One sphere's answer: the kernel-weighted samples with the
   // leave-one-out control variates (the mean value, and the linear part).
-  void EvaluateSphere(const Vec<DIM>& x, const SphereData& s, bool gradient, SphereEstimate& e) const
+  // The Hessian (Laplace's kernel) is the mean of ∇ₓ²w_i times the same
+  // residual: ∫∇²P = 0 and ∫∇²P (s − c)ᵀ = 0, so no mean is added back.
+  void EvaluateSphere(
+    const Vec<DIM>& x, const SphereData& s, const CacheDerivatives& want, SphereEstimate& e) const
   {
+    const bool gradient = want.Gradient;
+    const bool hessian = want.Hessian && !s.Series;
     const int nc = this->Components;
     const int m = s.Samples;
     const double R = s.Radius;
@@ -794,6 +820,7 @@ private:
       }
       double sum = 0.0, squares = 0.0;
       Vec<DIM> gsum = Vec<DIM>::Zero(), gsquares = Vec<DIM>::Zero();
+      Mat<DIM> hsum = Mat<DIM>::Zero(), hsquares = Mat<DIM>::Zero();
       for (int k = 0; k < m; ++k)
       {
         const double u = s.Values[static_cast<std::size_t>(k * nc + c)];
@@ -855,6 +882,21 @@ private:
           gsum += g;
           gsquares += g.cwiseProduct(g);
         }
+        if (hessian)
+        {
+          // ∇ₓ²w = −2ρ I/|d|^DIM − DIM w I/|d|² + 2·DIM ρ (p dᵀ + d pᵀ)/|d|^{DIM+2}
+          // + DIM(DIM+2) w d dᵀ/|d|⁴, ρ = R (3D) or 1 (2D), d = x − s
+          // (harmonic: its trace is 0).
+          const double scale = DIM == 3 ? R : 1.0;
+          const double dn = DIM == 3 ? d2 * std::sqrt(d2) : d2;
+          const Mat<DIM> pd = p * d.transpose();
+          const Mat<DIM> h = (-2.0 * scale / dn - DIM * w / d2) * Mat<DIM>::Identity() +
+            (2.0 * DIM * scale / (dn * d2)) * (pd + pd.transpose()) +
+            (DIM * (DIM + 2.0) * w / (d2 * d2)) * (d * d.transpose());
+          const Mat<DIM> term = residual * h;
+          hsum += term;
+          hsquares += term.cwiseProduct(term);
+        }
       }
       const double mean = sum / m;
       e.Value[static_cast<std::size_t>(c)] = mean;
@@ -867,6 +909,15 @@ private:
         e.GradientVariance[static_cast<std::size_t>(c * DIM + a)] = gradient
           ? std::max(0.0, (gsquares[a] - m * gm * gm) / (static_cast<double>(m) * (m - 1)))
           : 0.0;
+        for (int b = 0; b < DIM; ++b)
+        {
+          const double hm = hessian ? hsum(a, b) / m : 0.0;
+          const auto slot = static_cast<std::size_t>((c * DIM + a) * DIM + b);
+          e.Hessian[slot] = hm;
+          e.HessianVariance[slot] = hessian
+            ? std::max(0.0, (hsquares(a, b) - m * hm * hm) / (static_cast<double>(m) * (m - 1)))
+            : 0.0;
+        }
       }
     }
   }
@@ -897,9 +948,14 @@ private:
 
   // The ball's Green's function G_B(x, y) (zero on the sphere) of −Δ, or
   // of −Δ + k² (G − H from the series), and its x-gradient, for y in the
-  // ball at t = |y − x| along the unit w = (y − x)/t.
+  // ball at t = |y − x| along the unit w = (y − x)/t; with `d2G`, its
+  // x-Hessian (−Δ only). With v = b² p − q (b = |q|/R, p = x − c,
+  // q = y − c) and ρ the image distance, ∇ρ = v/ρ, so 3D:
+  // ∇²G_B = [(3wwᵀ − I)/t³ + b² I/ρ³ − 3vvᵀ/ρ⁵]/(4π); 2D:
+  // [(2wwᵀ − I)/t² + b² I/ρ² − 2vvᵀ/ρ⁴]/(2π).
   double BallGreen(const BallPoint& at, const SphereData& s, const Vec<DIM>& y, double t,
-    const Vec<DIM>& w, typename ScreenedBallSeries<DIM>::Radial& atY, Vec<DIM>& dG) const
+    const Vec<DIM>& w, typename ScreenedBallSeries<DIM>::Radial& atY, Vec<DIM>& dG,
+    Mat<DIM>* d2G = nullptr) const
   {
     constexpr double kPi = 3.14159265358979323846;
     const double R = s.Radius;
@@ -919,6 +975,25 @@ private:
     const Vec<DIM> image = at.A * q - R * at.E; // |image| = |x − c||y − x*|/R
     const Vec<DIM> imageX =
       b * at.P - R * (q.norm() > 0.0 ? Vec<DIM>(q / q.norm()) : Vec<DIM>::Unit(0));
+    if (d2G)
+    {
+      const Vec<DIM> v = b * imageX;
+      const double rho2 = imageX.squaredNorm();
+      const Mat<DIM> I = Mat<DIM>::Identity();
+      if constexpr (DIM == 3)
+      {
+        const double rho3 = rho2 * std::sqrt(rho2);
+        *d2G = ((3.0 * w * w.transpose() - I) / (t * t * t) + (b * b / rho3) * I -
+                 (3.0 / (rho3 * rho2)) * (v * v.transpose())) /
+          (4.0 * kPi);
+      }
+      else
+      {
+        *d2G = ((2.0 * w * w.transpose() - I) / (t * t) + (b * b / rho2) * I -
+                 (2.0 / (rho2 * rho2)) * (v * v.transpose())) /
+          (2.0 * kPi);
+      }
+    }
     if constexpr (DIM == 3)
     {
       dG = (w / (t * t) + b * imageX / PowerOf<3>(imageX.norm())) / (4.0 * kPi);
@@ -937,25 +1012,34 @@ private:
   // uniform, h the line's distance from x), which cancels G's 1/r in 3D
   // (2D: its log), stratified in u with two draws per stratum for the
   // variance. With their x-gradients.
-  void AddConcentratedSources(const Vec<DIM>& x, const SphereData& s, bool gradient,
-    SphereEstimate& into) const
+  void AddConcentratedSources(const Vec<DIM>& x, const SphereData& s,
+    const CacheDerivatives& want, SphereEstimate& into) const
   {
     const int nc = this->Components;
+    const bool gradient = want.Gradient;
+    const bool hessian = want.Hessian;
     const BallPoint at(x, s);
     typename ScreenedBallSeries<DIM>::Radial atY;
     Vec<DIM> dG;
+    Mat<DIM> d2G = Mat<DIM>::Zero();
+    Mat<DIM>* withHessian = hessian ? &d2G : nullptr;
     if (const PointSources<DIM>* points = this->Concentrated.Points)
     {
       points->ForEachInBall(s.Centre, s.Radius, [&](const Vec<DIM>& z, const double* strength) {
         const double t = (z - x).norm();
         const Vec<DIM> w = t > 0.0 ? Vec<DIM>((z - x) / t) : Vec<DIM>::Unit(0);
-        const double G = this->BallGreen(at, s, z, t, w, atY, dG);
+        const double G = this->BallGreen(at, s, z, t, w, atY, dG, withHessian);
         for (int c = 0; c < nc; ++c)
         {
           into.Value[static_cast<std::size_t>(c)] -= strength[c] * G;
           for (int d = 0; d < DIM && gradient; ++d)
           {
             into.Gradient[static_cast<std::size_t>(c * DIM + d)] -= strength[c] * dG[d];
+          }
+          for (int a = 0; a < DIM * DIM && hessian; ++a)
+          {
+            into.Hessian[static_cast<std::size_t>(c * DIM * DIM + a)] -=
+              strength[c] * d2G(a / DIM, a % DIM);
           }
         }
       });
@@ -973,7 +1057,10 @@ private:
     const std::uint64_t key =
       HashCombine(PointKey(this->Settings.Seed ^ 0x9b05688c2b3e6c1fULL, pointCoordinates), s.Key);
     const int strata = std::max(1, this->Settings.CurveSamples / 2);
-    std::vector<double> first(static_cast<std::size_t>(nc * (1 + DIM)), 0.0), term(first.size());
+    // Per component: value, then gradient, then Hessian entries.
+    const int gradients = nc, hessians = nc + nc * DIM;
+    std::vector<double> first(static_cast<std::size_t>(nc * (1 + DIM + DIM * DIM)), 0.0),
+      term(first.size(), 0.0);
     typename CurveSources<DIM>::Scratch scratch;
     curves->ForEachPieceInBall(s.Centre, s.Radius, scratch,
       [&](std::uint32_t segment, const Vec<DIM>& a, const Vec<DIM>& d, double t0, double t1,
@@ -999,7 +1086,7 @@ private:
             const Vec<DIM> y = a + t * d;
             const double r = (y - x).norm();
             const Vec<DIM> w = r > 0.0 ? Vec<DIM>((y - x) / r) : along;
-            const double G = this->BallGreen(at, s, y, r, w, atY, dG);
+            const double G = this->BallGreen(at, s, y, r, w, atY, dG, withHessian);
             // dl = h cosh u du = |x − y| du (per unit of u).
             const double jacobian = h * std::cosh(u);
             for (int c = 0; c < nc; ++c)
@@ -1008,7 +1095,13 @@ private:
               term[static_cast<std::size_t>(c)] = -strength * G * jacobian;
               for (int e = 0; e < DIM && gradient; ++e)
               {
-                term[static_cast<std::size_t>(nc + c * DIM + e)] = -strength * dG[e] * jacobian;
+                term[static_cast<std::size_t>(gradients + c * DIM + e)] =
+                  -strength * dG[e] * jacobian;
+              }
+              for (int e = 0; e < DIM * DIM && hessian; ++e)
+              {
+                term[static_cast<std::size_t>(hessians + c * DIM * DIM + e)] =
+                  -strength * d2G(e / DIM, e % DIM) * jacobian;
               }
             }
             if (draw == 0)
@@ -1029,9 +1122,16 @@ private:
             width * width * squares[static_cast<std::size_t>(c)];
           for (int e = 0; e < DIM && gradient; ++e)
           {
-            const std::size_t v = static_cast<std::size_t>(nc + c * DIM + e);
+            const std::size_t v = static_cast<std::size_t>(gradients + c * DIM + e);
             into.Gradient[static_cast<std::size_t>(c * DIM + e)] += width * sum[v];
             into.GradientVariance[static_cast<std::size_t>(c * DIM + e)] += width * width * squares[v];
+          }
+          for (int e = 0; e < DIM * DIM && hessian; ++e)
+          {
+            const std::size_t v = static_cast<std::size_t>(hessians + c * DIM * DIM + e);
+            into.Hessian[static_cast<std::size_t>(c * DIM * DIM + e)] += width * sum[v];
+            into.HessianVariance[static_cast<std::size_t>(c * DIM * DIM + e)] +=
+              width * width * squares[v];
           }
         }
       });
@@ -1042,9 +1142,13 @@ private:
   // ScreenedBallSeries::BallIntegral), plus the
   // stratified mean of the samples of G_B (f(y) − f(x)), each stratum's
   // two draws giving its variance.
-  void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, bool gradient,
+  // The Hessian: ∫∇ₓ²G_B (f(y) − f(x)) converges (∇²G_B ~ r^{−DIM}, the
+  // difference ~ r), and ∇²∫G_B = −I/DIM gives f(x) I/DIM.
+  void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, const CacheDerivatives& want,
     VolumeSource<DIM>& source, SphereEstimate& into) const
   {
+    const bool gradient = want.Gradient;
+    const bool hessian = want.Hessian && !s.Series;
     constexpr double kPi = 3.14159265358979323846;
     const int nc = this->Components;
     const double R = s.Radius;
@@ -1067,8 +1171,11 @@ private:
     // have independent source samples).
     const std::uint64_t key =
       HashCombine(PointKey(this->Settings.Seed ^ 0x510e527fade682d1ULL, pointCoordinates), s.Key);
-    // Per component: sum and squares of the strata's means, value then gradient.
-    std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM)), 0.0);
+    // Per component: sum and squares of the strata's means, value then
+    // gradient (then Hessian).
+    const int hessians = nc + nc * DIM;
+    std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM + (hessian ? DIM * DIM : 0))), 0.0);
+    Mat<DIM> d2G = Mat<DIM>::Zero();
     std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
     const BallPoint at(x, s);
     const ScreenedBallSeries<DIM>* series = s.Series.get();
@@ -1101,7 +1208,7 @@ private:
         source.Evaluate(y, fy.data());
         // G_B and ∇ₓG_B in the ball; 1/pdf = |S| t^{DIM−1} T.
         Vec<DIM> dG;
-        const double G = this->BallGreen(at, s, y, t, w, atY, dG);
+        const double G = this->BallGreen(at, s, y, t, w, atY, dG, hessian ? &d2G : nullptr);
         const double inverse = (DIM == 3 ? 4.0 * kPi * t * t : 2.0 * kPi * t) * T;
         for (int c = 0; c < nc; ++c)
         {
@@ -1110,6 +1217,11 @@ private:
           for (int d = 0; d < DIM && gradient; ++d)
           {
             term[static_cast<std::size_t>(nc + c * DIM + d)] = -dG[d] * inverse * df;
+          }
+          for (int e = 0; e < DIM * DIM && hessian; ++e)
+          {
+            term[static_cast<std::size_t>(hessians + c * DIM * DIM + e)] =
+              -d2G(e / DIM, e % DIM) * inverse * df;
           }
         }
         if (draw == 0)
@@ -1140,6 +1252,13 @@ private:
         const double exactGradient = series ? -f * ballGradient[d] : f * p[d] / DIM;
         into.Gradient[static_cast<std::size_t>(c * DIM + d)] += exactGradient + sum[v] / K;
         into.GradientVariance[static_cast<std::size_t>(c * DIM + d)] += squares[v] / (K * K);
+      }
+      for (int e = 0; e < DIM * DIM && hessian; ++e)
+      {
+        const std::size_t v = static_cast<std::size_t>(hessians + c * DIM * DIM + e);
+        const double exactHessian = e / DIM == e % DIM ? f / DIM : 0.0;
+        into.Hessian[static_cast<std::size_t>(c * DIM * DIM + e)] += exactHessian + sum[v] / K;
+        into.HessianVariance[static_cast<std::size_t>(c * DIM * DIM + e)] += squares[v] / (K * K);
       }
     }
   }
