@@ -96,9 +96,10 @@ bool AnswerFromBoundaryCache(const Problem<DIM>& problem, CacheSlot& slot, const
   const std::vector<std::array<double, 3>>& points, const CacheDerivatives& want, double target,
   bool keepGrown, const BatchProgressCallback& progress, CacheAnswers& out)
 {
-  if (want.Hessian)
+  if (want.Hessian || want.Directional)
   {
-    throw std::invalid_argument("it gives the value and the gradient, not the Hessian");
+    throw std::invalid_argument(
+      "it gives the value and the gradient, not the Hessian or a directional derivative");
   }
   const bool gradient = want.Gradient;
   std::shared_ptr<BoundaryValueCache<DIM>>& cache = slot.BoundaryCache<DIM>();

@@ -120,6 +120,18 @@ struct DerivativeArrays
     this->Status->SetValue(id, 0); // DerivativeStatus::Interior
   }
 
+  // A cache's directional derivative at point `id` (one per component).
+  void StoreDirectional(vtkIdType id, const std::vector<double>& directional,
+    const std::vector<double>& variance, int nc)
+  {
+    for (int c = 0; c < nc && this->Directional; ++c)
+    {
+      const std::size_t at = static_cast<std::size_t>(id * nc + c);
+      this->Directional->SetValue(id * nc + c, directional[at]);
+      this->DirectionalVariance->SetValue(id * nc + c, variance[at]);
+    }
+  }
+
   // A cache's Hessian at point `id` (components × DIM × DIM, with their
   // variances) into the 3 × 3 tuples.
   template <int DIM>

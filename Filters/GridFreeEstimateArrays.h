@@ -170,6 +170,10 @@ struct EstimateArrays
         {
           this->Derivatives.StoreHessian<DIM>(i, e.Hessian, e.HessianVariance, nc);
         }
+        if (!e.Directional.empty())
+        {
+          this->Derivatives.StoreDirectional(i, e.Directional, e.DirectionalVariance, nc);
+        }
       }
     }
   }

@@ -582,6 +582,12 @@ struct NumberStorage
           b.Means[i * size + slot] = e.Gradient[(i * nc + c) * DIM + a];
           b.Variances[i * size + slot] = e.GradientVariance[(i * nc + c) * DIM + a];
         }
+        if (layout.Directional >= 0 && !e.Directional.empty())
+        {
+          const std::size_t slot = static_cast<std::size_t>(layout.Directional + c);
+          b.Means[i * size + slot] = e.Directional[i * nc + c];
+          b.Variances[i * size + slot] = e.DirectionalVariance[i * nc + c];
+        }
         for (int a = 0; a < DIM * DIM && layout.Hessian >= 0 && !e.Hessian.empty(); ++a)
         {
           const std::size_t slot = static_cast<std::size_t>(layout.Hessian + c * DIM * DIM + a);
@@ -660,15 +666,6 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
 
   const bool cacheChosen = s.Estimator != Estimator::PointwiseWalks && built.Caches;
   const DerivativeRequest derivatives = DerivativesOf(s, nc, cacheChosen);
-  if (cacheChosen && derivatives.Directional)
-  {
-    vtkErrorWithObjectMacro(self, << "The cache estimators give the value, the gradient and "
-                                     "(Sphere Cache) the Hessian: turn "
-                                     "ComputeDirectionalDerivative off, or choose the Pointwise "
-                                     "Walks estimator.");
-    result.Completed = false;
-    return false;
-  }
   arrays.Allocate(name, nc, numPoints, built.Biharmonic, derivatives);
   FillBoundaryArrays<DIM>(problem, points, arrays);
 
@@ -693,6 +690,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     ProgressReporter cacheProgress(self, cacheRun, warn, numPoints, s.WalksPerCachePoint, 0.0);
     CacheDerivatives want(derivatives.Gradient);
     want.Hessian = derivatives.Hessian;
+    want.Directional = derivatives.Directional;
+    want.Direction = derivatives.Direction;
     if (!AnswerFromCache<DIM>(self, built, s, points, want, target,
           run.KeepGrownCaches, std::ref(cacheProgress), cached))
     {

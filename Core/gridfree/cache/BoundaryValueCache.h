@@ -90,6 +90,9 @@ struct CacheDerivatives
   }
   bool Gradient = false;
   bool Hessian = false;
+  // Z·∇u along Direction (its first DIM components), with its variance.
+  bool Directional = false;
+  std::array<double, 3> Direction = { 1.0, 0.0, 0.0 };
 };
 
 struct CacheEvaluation
@@ -97,6 +100,7 @@ struct CacheEvaluation
   std::vector<double> Value, ValueVariance;       // points × components
   std::vector<double> Gradient, GradientVariance; // points × components × DIM
   std::vector<double> Hessian, HessianVariance;   // points × components × DIM × DIM
+  std::vector<double> Directional, DirectionalVariance; // points × components
   std::vector<unsigned char> InShell, Outside;
 
   // `n` points of `nc` components, every answer NaN, no flags.
@@ -112,6 +116,8 @@ struct CacheEvaluation
     this->GradientVariance.assign(gradients, nan);
     this->Hessian.assign(hessians, nan);
     this->HessianVariance.assign(hessians, nan);
+    this->Directional.assign(want.Directional ? values : 0, nan);
+    this->DirectionalVariance.assign(want.Directional ? values : 0, nan);
     this->InShell.assign(n, 0);
     this->Outside.assign(n, 0);
   }

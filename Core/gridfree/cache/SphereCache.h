@@ -606,14 +606,17 @@ private:
       , GradientVariance(static_cast<std::size_t>(nc * DIM))
       , Hessian(static_cast<std::size_t>(nc * DIM * DIM))
       , HessianVariance(static_cast<std::size_t>(nc * DIM * DIM))
+      , Directional(static_cast<std::size_t>(nc))
+      , DirectionalVariance(static_cast<std::size_t>(nc))
     {
     }
-    std::vector<double> Value, ValueVariance, Gradient, GradientVariance, Hessian, HessianVariance;
+    std::vector<double> Value, ValueVariance, Gradient, GradientVariance, Hessian, HessianVariance,
+      Directional, DirectionalVariance;
 
     void Clear()
     {
-      for (std::vector<double>* v :
-        { &Value, &ValueVariance, &Gradient, &GradientVariance, &Hessian, &HessianVariance })
+      for (std::vector<double>* v : { &Value, &ValueVariance, &Gradient, &GradientVariance,
+             &Hessian, &HessianVariance, &Directional, &DirectionalVariance })
       {
         std::fill(v->begin(), v->end(), 0.0);
       }
@@ -625,6 +628,8 @@ private:
       {
         Value[k] += a * other.Value[k];
         ValueVariance[k] += a * a * other.ValueVariance[k];
+        Directional[k] += a * other.Directional[k];
+        DirectionalVariance[k] += a * a * other.DirectionalVariance[k];
       }
       for (std::size_t k = 0; k < Gradient.size(); ++k)
       {
@@ -649,6 +654,13 @@ private:
           out.Gradient.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
         std::copy(GradientVariance.begin(), GradientVariance.end(),
           out.GradientVariance.begin() + static_cast<std::ptrdiff_t>(i * Gradient.size()));
+      }
+      if (want.Directional)
+      {
+        std::copy(Directional.begin(), Directional.end(),
+          out.Directional.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
+        std::copy(DirectionalVariance.begin(), DirectionalVariance.end(),
+          out.DirectionalVariance.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
       }
       if (want.Hessian)
       {
@@ -761,8 +773,15 @@ private:
   void EvaluateSphere(
     const Vec<DIM>& x, const SphereData& s, const CacheDerivatives& want, SphereEstimate& e) const
   {
-    const bool gradient = want.Gradient;
+    // (The directional derivative is Z·g per sample: its variance is
+    // exact, with the gradient's covariances.)
+    const bool gradient = want.Gradient || want.Directional;
     const bool hessian = want.Hessian && !s.Series;
+    Vec<DIM> along = Vec<DIM>::Zero();
+    for (int a = 0; a < DIM; ++a)
+    {
+      along[a] = want.Direction[static_cast<std::size_t>(a)];
+    }
     const int nc = this->Components;
     const int m = s.Samples;
     const double R = s.Radius;
@@ -821,6 +840,7 @@ private:
       double sum = 0.0, squares = 0.0;
       Vec<DIM> gsum = Vec<DIM>::Zero(), gsquares = Vec<DIM>::Zero();
       Mat<DIM> hsum = Mat<DIM>::Zero(), hsquares = Mat<DIM>::Zero();
+      double dsum = 0.0, dsquares = 0.0;
       for (int k = 0; k < m; ++k)
       {
         const double u = s.Values[static_cast<std::size_t>(k * nc + c)];
@@ -881,6 +901,9 @@ private:
           }
           gsum += g;
           gsquares += g.cwiseProduct(g);
+          const double dz = along.dot(g);
+          dsum += dz;
+          dsquares += dz * dz;
         }
         if (hessian)
         {
@@ -902,6 +925,11 @@ private:
       e.Value[static_cast<std::size_t>(c)] = mean;
       e.ValueVariance[static_cast<std::size_t>(c)] =
         std::max(0.0, (squares - m * mean * mean) / (static_cast<double>(m) * (m - 1)));
+      const double dmean = gradient ? dsum / m : 0.0;
+      e.Directional[static_cast<std::size_t>(c)] = dmean;
+      e.DirectionalVariance[static_cast<std::size_t>(c)] = gradient
+        ? std::max(0.0, (dsquares - m * dmean * dmean) / (static_cast<double>(m) * (m - 1)))
+        : 0.0;
       for (int a = 0; a < DIM; ++a)
       {
         const double gm = gradient ? gsum[a] / m : 0.0;
@@ -1016,8 +1044,17 @@ private:
     const CacheDerivatives& want, SphereEstimate& into) const
   {
     const int nc = this->Components;
-    const bool gradient = want.Gradient;
+    const bool gradient = want.Gradient || want.Directional;
     const bool hessian = want.Hessian;
+    const bool directional = want.Directional;
+    const auto toward = [&](const Vec<DIM>& g) {
+      double dz = 0.0;
+      for (int d = 0; d < DIM; ++d)
+      {
+        dz += want.Direction[static_cast<std::size_t>(d)] * g[d];
+      }
+      return dz;
+    };
     const BallPoint at(x, s);
     typename ScreenedBallSeries<DIM>::Radial atY;
     Vec<DIM> dG;
@@ -1032,6 +1069,7 @@ private:
         for (int c = 0; c < nc; ++c)
         {
           into.Value[static_cast<std::size_t>(c)] -= strength[c] * G;
+          into.Directional[static_cast<std::size_t>(c)] -= directional ? strength[c] * toward(dG) : 0.0;
           for (int d = 0; d < DIM && gradient; ++d)
           {
             into.Gradient[static_cast<std::size_t>(c * DIM + d)] -= strength[c] * dG[d];
@@ -1058,8 +1096,8 @@ private:
       HashCombine(PointKey(this->Settings.Seed ^ 0x9b05688c2b3e6c1fULL, pointCoordinates), s.Key);
     const int strata = std::max(1, this->Settings.CurveSamples / 2);
     // Per component: value, then gradient, then Hessian entries.
-    const int gradients = nc, hessians = nc + nc * DIM;
-    std::vector<double> first(static_cast<std::size_t>(nc * (1 + DIM + DIM * DIM)), 0.0),
+    const int gradients = nc, hessians = nc + nc * DIM, directionals = hessians + nc * DIM * DIM;
+    std::vector<double> first(static_cast<std::size_t>(directionals + nc), 0.0),
       term(first.size(), 0.0);
     typename CurveSources<DIM>::Scratch scratch;
     curves->ForEachPieceInBall(s.Centre, s.Radius, scratch,
@@ -1103,6 +1141,8 @@ private:
                 term[static_cast<std::size_t>(hessians + c * DIM * DIM + e)] =
                   -strength * d2G(e / DIM, e % DIM) * jacobian;
               }
+              term[static_cast<std::size_t>(directionals + c)] =
+                directional ? -strength * toward(dG) * jacobian : 0.0;
             }
             if (draw == 0)
             {
@@ -1126,6 +1166,12 @@ private:
             into.Gradient[static_cast<std::size_t>(c * DIM + e)] += width * sum[v];
             into.GradientVariance[static_cast<std::size_t>(c * DIM + e)] += width * width * squares[v];
           }
+          if (directional)
+          {
+            const std::size_t v = static_cast<std::size_t>(directionals + c);
+            into.Directional[static_cast<std::size_t>(c)] += width * sum[v];
+            into.DirectionalVariance[static_cast<std::size_t>(c)] += width * width * squares[v];
+          }
           for (int e = 0; e < DIM * DIM && hessian; ++e)
           {
             const std::size_t v = static_cast<std::size_t>(hessians + c * DIM * DIM + e);
@@ -1147,8 +1193,9 @@ private:
   void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, const CacheDerivatives& want,
     VolumeSource<DIM>& source, SphereEstimate& into) const
   {
-    const bool gradient = want.Gradient;
+    const bool gradient = want.Gradient || want.Directional;
     const bool hessian = want.Hessian && !s.Series;
+    const bool directional = want.Directional;
     constexpr double kPi = 3.14159265358979323846;
     const int nc = this->Components;
     const double R = s.Radius;
@@ -1174,7 +1221,8 @@ private:
     // Per component: sum and squares of the strata's means, value then
     // gradient (then Hessian).
     const int hessians = nc + nc * DIM;
-    std::vector<double> sum(static_cast<std::size_t>(nc * (1 + DIM + (hessian ? DIM * DIM : 0))), 0.0);
+    const int directionals = hessians + (hessian ? nc * DIM * DIM : 0);
+    std::vector<double> sum(static_cast<std::size_t>(directionals + (directional ? nc : 0)), 0.0);
     Mat<DIM> d2G = Mat<DIM>::Zero();
     std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
     const BallPoint at(x, s);
@@ -1223,6 +1271,16 @@ private:
             term[static_cast<std::size_t>(hessians + c * DIM * DIM + e)] =
               -d2G(e / DIM, e % DIM) * inverse * df;
           }
+          if (directional)
+          {
+            double dz = 0.0;
+            for (int d = 0; d < DIM; ++d)
+            {
+              dz += want.Direction[static_cast<std::size_t>(d)] *
+                term[static_cast<std::size_t>(nc + c * DIM + d)];
+            }
+            term[static_cast<std::size_t>(directionals + c)] = dz;
+          }
         }
         if (draw == 0)
         {
@@ -1252,6 +1310,18 @@ private:
         const double exactGradient = series ? -f * ballGradient[d] : f * p[d] / DIM;
         into.Gradient[static_cast<std::size_t>(c * DIM + d)] += exactGradient + sum[v] / K;
         into.GradientVariance[static_cast<std::size_t>(c * DIM + d)] += squares[v] / (K * K);
+      }
+      if (directional)
+      {
+        const std::size_t v = static_cast<std::size_t>(directionals + c);
+        double exactDirectional = 0.0;
+        for (int d = 0; d < DIM; ++d)
+        {
+          exactDirectional += want.Direction[static_cast<std::size_t>(d)] *
+            (series ? -f * ballGradient[d] : f * p[d] / DIM);
+        }
+        into.Directional[static_cast<std::size_t>(c)] += exactDirectional + sum[v] / K;
+        into.DirectionalVariance[static_cast<std::size_t>(c)] += squares[v] / (K * K);
       }
       for (int e = 0; e < DIM * DIM && hessian; ++e)
       {
