@@ -120,6 +120,25 @@ struct DerivativeArrays
     this->Status->SetValue(id, 0); // DerivativeStatus::Interior
   }
 
+  // A cache's divergence and curl at point `id`.
+  void StoreDivergenceCurl(vtkIdType id, const std::vector<double>& divergence,
+    const std::vector<double>& divergenceVariance, const std::vector<double>& curl,
+    const std::vector<double>& curlVariance)
+  {
+    if (!this->Divergence)
+    {
+      return;
+    }
+    const auto at = static_cast<std::size_t>(id);
+    this->Divergence->SetValue(id, divergence[at]);
+    this->DivergenceVariance->SetValue(id, divergenceVariance[at]);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Curl->SetValue(3 * id + a, curl[3 * at + static_cast<std::size_t>(a)]);
+      this->CurlVariance->SetValue(3 * id + a, curlVariance[3 * at + static_cast<std::size_t>(a)]);
+    }
+  }
+
   // A cache's directional derivative at point `id` (one per component).
   void StoreDirectional(vtkIdType id, const std::vector<double>& directional,
     const std::vector<double>& variance, int nc)

@@ -174,6 +174,11 @@ struct EstimateArrays
         {
           this->Derivatives.StoreDirectional(i, e.Directional, e.DirectionalVariance, nc);
         }
+        if (!e.Divergence.empty())
+        {
+          this->Derivatives.StoreDivergenceCurl(
+            i, e.Divergence, e.DivergenceVariance, e.Curl, e.CurlVariance);
+        }
       }
     }
   }

@@ -248,8 +248,9 @@ DerivativeRequest DerivativesOf(const SolveSettings& s, int nc, bool cache)
   request.Direction = { s.DerivativeDirection[0], s.DerivativeDirection[1],
     s.DerivativeDirection[2] };
   // (The boundary cache gives no divergence or curl, whose variances need
-  // the gradient's covariances.)
-  request.DivergenceCurl = s.ComputeGradient && nc == 3 && !cache;
+  // the gradient's covariances; the sphere cache's come from its samples.)
+  request.DivergenceCurl =
+    s.ComputeGradient && nc == 3 && (!cache || s.Estimator == Estimator::SphereCache);
   return request;
 }
 
@@ -582,6 +583,18 @@ struct NumberStorage
           b.Means[i * size + slot] = e.Gradient[(i * nc + c) * DIM + a];
           b.Variances[i * size + slot] = e.GradientVariance[(i * nc + c) * DIM + a];
         }
+        if (c == 0 && layout.Divergence >= 0 && !e.Divergence.empty())
+        {
+          b.Means[i * size + static_cast<std::size_t>(layout.Divergence)] = e.Divergence[i];
+          b.Variances[i * size + static_cast<std::size_t>(layout.Divergence)] =
+            e.DivergenceVariance[i];
+          for (std::size_t a = 0; a < 3; ++a)
+          {
+            const std::size_t slot = static_cast<std::size_t>(layout.Curl) + a;
+            b.Means[i * size + slot] = e.Curl[3 * i + a];
+            b.Variances[i * size + slot] = e.CurlVariance[3 * i + a];
+          }
+        }
         if (layout.Directional >= 0 && !e.Directional.empty())
         {
           const std::size_t slot = static_cast<std::size_t>(layout.Directional + c);
@@ -692,6 +705,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     want.Hessian = derivatives.Hessian;
     want.Directional = derivatives.Directional;
     want.Direction = derivatives.Direction;
+    want.DivergenceCurl = derivatives.DivergenceCurl;
     if (!AnswerFromCache<DIM>(self, built, s, points, want, target,
           run.KeepGrownCaches, std::ref(cacheProgress), cached))
     {

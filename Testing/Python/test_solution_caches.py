@@ -209,6 +209,39 @@ def test_the_sphere_cache_gives_hessians_and_directional_derivatives():
     assert 0.6 < sum(squares) / len(squares) < 1.5, sum(squares) / len(squares)
 
 
+def test_the_sphere_cache_gives_divergence_and_curl_of_a_vector_solution():
+    """A 3-component boundary array (u = (x² − y², xy, xz + y), harmonic) with
+    Compute Gradient and the Sphere Cache: T_Divergence = 4x and T_Curl =
+    (1, −z, 3y) from the spheres' samples, within their error bars."""
+    from gridfree_testing import add_point_array
+
+    boundary = sphere_boundary(harmonic, resolution=48)
+    add_point_array(boundary, "V", lambda x, y, z: (x * x - y * y, x * y, x * z + y), 3)
+    solver = cache_solver(boundary, plane(0.1), SPHERES, WalksPerSphere=256)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "V")
+    solver.Update()
+    out = solver.GetOutput()
+    pd = out.GetPointData()
+    divergence, curl = pd.GetArray("V_Divergence"), pd.GetArray("V_Curl")
+    assert divergence is not None and curl is not None
+    squares = []
+    for i in range(out.GetNumberOfPoints()):
+        x, y, z = out.GetPoint(i)
+        if math.sqrt(x * x + y * y + z * z) > 1.0:
+            continue
+        exact = [4.0 * x, 1.0, -z, 3.0 * y]
+        values = [divergence.GetTuple1(i)] + list(curl.GetTuple3(i))
+        variances = ([pd.GetArray("V_Divergence_Variance").GetTuple1(i)]
+                     + list(pd.GetArray("V_Curl_Variance").GetTuple3(i)))
+        for value, variance, want in zip(values, variances, exact):
+            if variance > 0.0:
+                z_score = (value - want) / math.sqrt(variance)
+                assert abs(z_score) < 5.0, (i, z_score)
+                squares.append(z_score * z_score)
+    assert len(squares) > 4 * 30
+    assert 0.6 < sum(squares) / len(squares) < 1.5, sum(squares) / len(squares)
+
+
 def test_a_moved_probe_reuses_the_cache_with_the_numbers_of_a_fresh_solve():
     boundary = sphere_boundary(harmonic, resolution=48)
     probe = plane(0.0, resolution=5)

@@ -93,7 +93,21 @@ struct CacheDerivatives
   // Z·∇u along Direction (its first DIM components), with its variance.
   bool Directional = false;
   std::array<double, 3> Direction = { 1.0, 0.0, 0.0 };
+  // ∇·u and ∇×u of a 3-component solution (∂/∂z = 0 in 2D).
+  bool DivergenceCurl = false;
 };
+
+// ∇·u and ∇×u from J(i, j) = ∂u_i/∂x_j (components i < 3, x_j < DIM; 0
+// beyond), as walk samples (DerivativeWalkOnSpheres::AddDivergenceCurl).
+template <int DIM, class Jacobian>
+void DivergenceAndCurl(const Jacobian& jacobian, double& divergence, double curl[3])
+{
+  const auto J = [&](int i, int j) { return j < DIM ? jacobian(i, j) : 0.0; };
+  divergence = J(0, 0) + J(1, 1) + J(2, 2);
+  curl[0] = J(2, 1) - J(1, 2);
+  curl[1] = J(0, 2) - J(2, 0);
+  curl[2] = J(1, 0) - J(0, 1);
+}
 
 struct CacheEvaluation
 {
@@ -101,6 +115,8 @@ struct CacheEvaluation
   std::vector<double> Gradient, GradientVariance; // points × components × DIM
   std::vector<double> Hessian, HessianVariance;   // points × components × DIM × DIM
   std::vector<double> Directional, DirectionalVariance; // points × components
+  std::vector<double> Divergence, DivergenceVariance;   // points
+  std::vector<double> Curl, CurlVariance;               // points × 3
   std::vector<unsigned char> InShell, Outside;
 
   // `n` points of `nc` components, every answer NaN, no flags.
@@ -118,6 +134,10 @@ struct CacheEvaluation
     this->HessianVariance.assign(hessians, nan);
     this->Directional.assign(want.Directional ? values : 0, nan);
     this->DirectionalVariance.assign(want.Directional ? values : 0, nan);
+    this->Divergence.assign(want.DivergenceCurl ? n : 0, nan);
+    this->DivergenceVariance.assign(want.DivergenceCurl ? n : 0, nan);
+    this->Curl.assign(want.DivergenceCurl ? 3 * n : 0, nan);
+    this->CurlVariance.assign(want.DivergenceCurl ? 3 * n : 0, nan);
     this->InShell.assign(n, 0);
     this->Outside.assign(n, 0);
   }

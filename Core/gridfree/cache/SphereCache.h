@@ -171,6 +171,10 @@ public:
     const CacheDerivatives& want, CacheEvaluation& out, double targetVariance = 0.0,
     int mostSamples = 0, const BatchProgressCallback& progress = BatchProgressCallback())
   {
+    if (want.DivergenceCurl && this->Components != 3)
+    {
+      throw std::invalid_argument("divergence and curl need a solution of 3 components");
+    }
     if (want.Hessian && this->Screening > 0.0)
     {
       throw std::invalid_argument("the sphere cache gives the screened equation's value and "
@@ -608,15 +612,20 @@ private:
       , HessianVariance(static_cast<std::size_t>(nc * DIM * DIM))
       , Directional(static_cast<std::size_t>(nc))
       , DirectionalVariance(static_cast<std::size_t>(nc))
+      , DivergenceCurl(4)
+      , DivergenceCurlVariance(4)
     {
     }
     std::vector<double> Value, ValueVariance, Gradient, GradientVariance, Hessian, HessianVariance,
       Directional, DirectionalVariance;
+    // ∇·u, then ∇×u (3-component solutions).
+    std::vector<double> DivergenceCurl, DivergenceCurlVariance;
 
     void Clear()
     {
       for (std::vector<double>* v : { &Value, &ValueVariance, &Gradient, &GradientVariance,
-             &Hessian, &HessianVariance, &Directional, &DirectionalVariance })
+             &Hessian, &HessianVariance, &Directional, &DirectionalVariance, &DivergenceCurl,
+             &DivergenceCurlVariance })
       {
         std::fill(v->begin(), v->end(), 0.0);
       }
@@ -641,6 +650,11 @@ private:
         Hessian[k] += a * other.Hessian[k];
         HessianVariance[k] += a * a * other.HessianVariance[k];
       }
+      for (std::size_t k = 0; k < DivergenceCurl.size(); ++k)
+      {
+        DivergenceCurl[k] += a * other.DivergenceCurl[k];
+        DivergenceCurlVariance[k] += a * a * other.DivergenceCurlVariance[k];
+      }
     }
     void WriteTo(CacheEvaluation& out, std::size_t i, const CacheDerivatives& want) const
     {
@@ -661,6 +675,16 @@ private:
           out.Directional.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
         std::copy(DirectionalVariance.begin(), DirectionalVariance.end(),
           out.DirectionalVariance.begin() + static_cast<std::ptrdiff_t>(i * Value.size()));
+      }
+      if (want.DivergenceCurl)
+      {
+        out.Divergence[i] = DivergenceCurl[0];
+        out.DivergenceVariance[i] = DivergenceCurlVariance[0];
+        for (std::size_t a = 0; a < 3; ++a)
+        {
+          out.Curl[3 * i + a] = DivergenceCurl[1 + a];
+          out.CurlVariance[3 * i + a] = DivergenceCurlVariance[1 + a];
+        }
       }
       if (want.Hessian)
       {
@@ -775,8 +799,14 @@ private:
   {
     // (The directional derivative is Z·g per sample: its variance is
     // exact, with the gradient's covariances.)
-    const bool gradient = want.Gradient || want.Directional;
+    // (So are ∇·u and ∇×u, from the samples' Jacobians.)
+    const bool gradient = want.Gradient || want.Directional || want.DivergenceCurl;
     const bool hessian = want.Hessian && !s.Series;
+    thread_local std::vector<Vec<DIM>> jacobians; // per sample and component
+    if (want.DivergenceCurl)
+    {
+      jacobians.resize(static_cast<std::size_t>(s.Samples * this->Components));
+    }
     Vec<DIM> along = Vec<DIM>::Zero();
     for (int a = 0; a < DIM; ++a)
     {
@@ -904,6 +934,10 @@ private:
           const double dz = along.dot(g);
           dsum += dz;
           dsquares += dz * dz;
+          if (want.DivergenceCurl)
+          {
+            jacobians[static_cast<std::size_t>(k * nc + c)] = g;
+          }
         }
         if (hessian)
         {
@@ -946,6 +980,30 @@ private:
             ? std::max(0.0, (hsquares(a, b) - m * hm * hm) / (static_cast<double>(m) * (m - 1)))
             : 0.0;
         }
+      }
+    }
+    if (want.DivergenceCurl)
+    {
+      double sums[4] = { 0.0, 0.0, 0.0, 0.0 }, squares[4] = { 0.0, 0.0, 0.0, 0.0 };
+      for (int k = 0; k < m; ++k)
+      {
+        double divergence, curl[3];
+        DivergenceAndCurl<DIM>(
+          [&](int i, int j) { return jacobians[static_cast<std::size_t>(k * nc + i)][j]; },
+          divergence, curl);
+        const double values[4] = { divergence, curl[0], curl[1], curl[2] };
+        for (int v = 0; v < 4; ++v)
+        {
+          sums[v] += values[v];
+          squares[v] += values[v] * values[v];
+        }
+      }
+      for (int v = 0; v < 4; ++v)
+      {
+        const double mean = sums[v] / m;
+        e.DivergenceCurl[static_cast<std::size_t>(v)] = mean;
+        e.DivergenceCurlVariance[static_cast<std::size_t>(v)] =
+          std::max(0.0, (squares[v] - m * mean * mean) / (static_cast<double>(m) * (m - 1)));
       }
     }
   }
@@ -1044,9 +1102,10 @@ private:
     const CacheDerivatives& want, SphereEstimate& into) const
   {
     const int nc = this->Components;
-    const bool gradient = want.Gradient || want.Directional;
+    const bool gradient = want.Gradient || want.Directional || want.DivergenceCurl;
     const bool hessian = want.Hessian;
     const bool directional = want.Directional;
+    const bool divergenceCurl = want.DivergenceCurl;
     const auto toward = [&](const Vec<DIM>& g) {
       double dz = 0.0;
       for (int d = 0; d < DIM; ++d)
@@ -1080,6 +1139,17 @@ private:
               strength[c] * d2G(a / DIM, a % DIM);
           }
         }
+        if (divergenceCurl)
+        {
+          double divergence, curl[3];
+          DivergenceAndCurl<DIM>(
+            [&](int i, int j) { return -strength[i] * dG[j]; }, divergence, curl);
+          into.DivergenceCurl[0] += divergence;
+          for (std::size_t a = 0; a < 3; ++a)
+          {
+            into.DivergenceCurl[1 + a] += curl[a];
+          }
+        }
       });
     }
     const CurveSources<DIM>* curves = this->Concentrated.Curves;
@@ -1097,7 +1167,8 @@ private:
     const int strata = std::max(1, this->Settings.CurveSamples / 2);
     // Per component: value, then gradient, then Hessian entries.
     const int gradients = nc, hessians = nc + nc * DIM, directionals = hessians + nc * DIM * DIM;
-    std::vector<double> first(static_cast<std::size_t>(directionals + nc), 0.0),
+    const int divergences = directionals + nc;
+    std::vector<double> first(static_cast<std::size_t>(divergences + 4), 0.0),
       term(first.size(), 0.0);
     typename CurveSources<DIM>::Scratch scratch;
     curves->ForEachPieceInBall(s.Centre, s.Radius, scratch,
@@ -1144,6 +1215,10 @@ private:
               term[static_cast<std::size_t>(directionals + c)] =
                 directional ? -strength * toward(dG) * jacobian : 0.0;
             }
+            if (divergenceCurl)
+            {
+              this->AddDivergenceCurlTerms(term, nc, divergences);
+            }
             if (draw == 0)
             {
               first = term;
@@ -1172,6 +1247,16 @@ private:
             into.Directional[static_cast<std::size_t>(c)] += width * sum[v];
             into.DirectionalVariance[static_cast<std::size_t>(c)] += width * width * squares[v];
           }
+          if (divergenceCurl && c == 0)
+          {
+            for (int v = 0; v < 4; ++v)
+            {
+              const std::size_t slot = static_cast<std::size_t>(divergences + v);
+              into.DivergenceCurl[static_cast<std::size_t>(v)] += width * sum[slot];
+              into.DivergenceCurlVariance[static_cast<std::size_t>(v)] +=
+                width * width * squares[slot];
+            }
+          }
           for (int e = 0; e < DIM * DIM && hessian; ++e)
           {
             const std::size_t v = static_cast<std::size_t>(hessians + c * DIM * DIM + e);
@@ -1193,9 +1278,10 @@ private:
   void AddSourceIntegral(const Vec<DIM>& x, const SphereData& s, const CacheDerivatives& want,
     VolumeSource<DIM>& source, SphereEstimate& into) const
   {
-    const bool gradient = want.Gradient || want.Directional;
+    const bool gradient = want.Gradient || want.Directional || want.DivergenceCurl;
     const bool hessian = want.Hessian && !s.Series;
     const bool directional = want.Directional;
+    const bool divergenceCurl = want.DivergenceCurl;
     constexpr double kPi = 3.14159265358979323846;
     const int nc = this->Components;
     const double R = s.Radius;
@@ -1222,7 +1308,8 @@ private:
     // gradient (then Hessian).
     const int hessians = nc + nc * DIM;
     const int directionals = hessians + (hessian ? nc * DIM * DIM : 0);
-    std::vector<double> sum(static_cast<std::size_t>(directionals + (directional ? nc : 0)), 0.0);
+    const int divergences = directionals + (directional ? nc : 0);
+    std::vector<double> sum(static_cast<std::size_t>(divergences + (divergenceCurl ? 4 : 0)), 0.0);
     Mat<DIM> d2G = Mat<DIM>::Zero();
     std::vector<double> squares(sum.size(), 0.0), first(sum.size(), 0.0), term(sum.size(), 0.0);
     const BallPoint at(x, s);
@@ -1282,6 +1369,10 @@ private:
             term[static_cast<std::size_t>(directionals + c)] = dz;
           }
         }
+        if (divergenceCurl)
+        {
+          this->AddDivergenceCurlTerms(term, nc, divergences);
+        }
         if (draw == 0)
         {
           first = term;
@@ -1330,6 +1421,40 @@ private:
         into.Hessian[static_cast<std::size_t>(c * DIM * DIM + e)] += exactHessian + sum[v] / K;
         into.HessianVariance[static_cast<std::size_t>(c * DIM * DIM + e)] += squares[v] / (K * K);
       }
+    }
+    if (divergenceCurl)
+    {
+      // The exact part's Jacobian: −f_i(x) times ∇∫G_B.
+      double divergence, curl[3];
+      DivergenceAndCurl<DIM>(
+        [&](int i, int j) {
+          return series ? -fx[static_cast<std::size_t>(i)] * ballGradient[j]
+                        : fx[static_cast<std::size_t>(i)] * p[j] / DIM;
+        },
+        divergence, curl);
+      const double exact[4] = { divergence, curl[0], curl[1], curl[2] };
+      for (int v = 0; v < 4; ++v)
+      {
+        into.DivergenceCurl[static_cast<std::size_t>(v)] +=
+          exact[v] + sum[static_cast<std::size_t>(divergences + v)] / K;
+        into.DivergenceCurlVariance[static_cast<std::size_t>(v)] +=
+          squares[static_cast<std::size_t>(divergences + v)] / (K * K);
+      }
+    }
+  }
+
+  // ∇·u and ∇×u of a sample's gradient entries (term[nc + c·DIM + d]) into
+  // term[at .. at + 3].
+  static void AddDivergenceCurlTerms(std::vector<double>& term, int nc, int at)
+  {
+    double divergence, curl[3];
+    DivergenceAndCurl<DIM>(
+      [&](int i, int j) { return term[static_cast<std::size_t>(nc + i * DIM + j)]; }, divergence,
+      curl);
+    term[static_cast<std::size_t>(at)] = divergence;
+    for (int a = 0; a < 3; ++a)
+    {
+      term[static_cast<std::size_t>(at + 1 + a)] = curl[a];
     }
   }
 

@@ -26,6 +26,17 @@ using namespace gridfree::testing;
 
 namespace
 {
+// Cache settings of `samples` walks per sphere and `sourceSamples` source
+// samples per point, with the seed of cache `seed`.
+SphereCacheSettings SettingsOf(int samples, int sourceSamples, int seed)
+{
+  SphereCacheSettings settings;
+  settings.SamplesPerSphere = samples;
+  settings.SourceSamples = sourceSamples;
+  settings.Seed = static_cast<std::uint64_t>(seed);
+  return settings;
+}
+
 // Poisson with a source that varies (the source integral's samples matter):
 // u = x³ + y² + 0.3 x, Δu = 6x + 2.
 template <int DIM>
@@ -72,11 +83,7 @@ std::size_t PoolSphereCaches(const Problem<DIM>& problem,
   std::size_t answered = 0;
   for (int k = 0; k < caches; ++k)
   {
-    SphereCacheSettings settings;
-    settings.SamplesPerSphere = samples;
-    settings.SourceSamples = sourceSamples;
-    settings.Seed = 500 + static_cast<std::uint64_t>(k);
-    SphereCache<DIM> cache(problem, settings);
+    SphereCache<DIM> cache(problem, SettingsOf(samples, sourceSamples, 500 + k));
     CacheEvaluation answer;
     EXPECT_TRUE(cache.Answer(problem, points, true, answer));
     const std::size_t count =
@@ -112,6 +119,17 @@ TEST(SphereCache, PoissonCalibrated)
   ExpectCalibratedSpheres<2>(MakeCircle(1024), SphereCachePoisson<2>(), 24);
 }
 
+namespace
+{
+// A cache asked for what it cannot answer throws std::invalid_argument.
+void ExpectRefused(const Problem<3>& problem, const CacheDerivatives& want)
+{
+  SphereCache<3> cache(problem, SphereCacheSettings());
+  CacheEvaluation answer;
+  EXPECT_THROW(cache.Answer(problem, CacheProbe<3>(4, 0.5), want, answer), std::invalid_argument);
+}
+} // namespace
+
 // Hessians (Laplace's kernels: ∇ₓ²P, and ∇ₓ²G_B for the sources) and the
 // directional derivative along Z = (0.6, −0.8, 0.3) pooled over
 // independent caches like values and gradients, against hessian(x) (DIM ×
@@ -130,11 +148,7 @@ void ExpectHessiansCalibrated(const Problem<DIM>& problem,
   std::size_t answered = 0;
   for (int k = 0; k < caches; ++k)
   {
-    SphereCacheSettings settings;
-    settings.SamplesPerSphere = samples;
-    settings.SourceSamples = 256;
-    settings.Seed = 700 + static_cast<std::uint64_t>(k);
-    SphereCache<DIM> cache(problem, settings);
+    SphereCache<DIM> cache(problem, SettingsOf(samples, 256, 700 + k));
     CacheEvaluation answer;
     CacheDerivatives want;
     want.Hessian = true;
@@ -213,12 +227,89 @@ TEST(SphereCache, HessiansAndDirectionalDerivativesCalibrated)
   ExpectHessiansCalibrated<2>(ProblemOf<2>(MakeCacheL<2>(), SphereCachePoisson<2>()),
     CacheLGrid(0.03, 0.2425, 0.97), [&](const Vec<2>& x) { return cubic(x); },
     SphereCachePoisson<2>().Gradient, 24, 1024);
-  const Problem<3> screened = ProblemOf<3>(MakeIcosphere(3), CacheScreened<3>());
-  SphereCache<3> cache(screened, SphereCacheSettings());
-  CacheEvaluation answer;
-  CacheDerivatives want;
-  want.Hessian = true;
-  EXPECT_THROW(cache.Answer(screened, CacheProbe<3>(4, 0.5), want, answer), std::invalid_argument);
+  CacheDerivatives hessian;
+  hessian.Hessian = true;
+  ExpectRefused(ProblemOf<3>(MakeIcosphere(3), CacheScreened<3>()), hessian);
+}
+
+// ∇·u and ∇×u of a 3-component solution from the samples' Jacobians: u =
+// h + x³ per component (Δu_i = 6x, a volume source) with harmonic h =
+// (x² − y², xy, xz + y) in 3D, (x² − y², xy, x + y) in 2D, in the L:
+// ∇·u = 4x + 3x² (2D 3x + 3x²), ∇×u = (1, −z − 3x², 3y + 3x²) (2D
+// (1, −1 − 3x², 3y + 3x²)).
+template <int DIM>
+void ExpectDivergenceAndCurlCalibrated(int caches, int samples)
+{
+  const auto cube = [](const Vec<DIM>& x) { return x[0] * x[0] * x[0]; };
+  std::vector<Field<DIM>> u = {
+    [=](const Vec<DIM>& x) { return x[0] * x[0] - x[1] * x[1] + cube(x); },
+    [=](const Vec<DIM>& x) { return x[0] * x[1] + cube(x); },
+    [=](const Vec<DIM>& x) {
+      return (DIM == 3 ? x[0] * x[DIM - 1] : x[0]) + x[1] + cube(x);
+    },
+  };
+  const auto boundary = std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(MakeCacheL<DIM>(), u));
+  WalkSettings walk = CacheLaplace();
+  walk.Problem = Equation::Poisson;
+  auto sources = std::make_shared<SourceSet<DIM>>();
+  sources->MakeVolume = [](double) {
+    return std::make_unique<FunctionSource<DIM>>([](const Vec<DIM>& x) { return 6.0 * x[0]; }, 3);
+  };
+  const Problem<DIM> problem(boundary, walk, sources);
+  const std::vector<std::array<double, 3>> points = CacheLGrid(0.03, 0.2425, 0.97);
+  CachePooled divergences, curls;
+  for (int k = 0; k < caches; ++k)
+  {
+    SphereCache<DIM> cache(problem, SettingsOf(samples, 64, 800 + k));
+    CacheEvaluation answer;
+    CacheDerivatives want(true);
+    want.DivergenceCurl = true;
+    ASSERT_TRUE(cache.Answer(problem, points, want, answer));
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      if (answer.InShell[i] || answer.Outside[i])
+      {
+        continue;
+      }
+      // The means are those of the gradients' entries combined (the same
+      // samples), to rounding.
+      double divergence0, curl0[3];
+      DivergenceAndCurl<DIM>(
+        [&](int c, int j) {
+          return answer.Gradient[(i * 3 + static_cast<std::size_t>(c)) * DIM +
+            static_cast<std::size_t>(j)];
+        },
+        divergence0, curl0);
+      EXPECT_NEAR(answer.Divergence[i], divergence0, 1e-9 * (1.0 + std::abs(divergence0)));
+      for (std::size_t a = 0; a < 3; ++a)
+      {
+        EXPECT_NEAR(answer.Curl[3 * i + a], curl0[a], 1e-9 * (1.0 + std::abs(curl0[a])));
+      }
+      const double x = points[i][0], y = points[i][1], z = DIM == 3 ? points[i][2] : 0.0;
+      const double divergence = (DIM == 3 ? 4.0 * x : 3.0 * x) + 3.0 * x * x;
+      const double curl[3] = { 1.0, (DIM == 3 ? -z : -1.0) - 3.0 * x * x, 3.0 * y + 3.0 * x * x };
+      divergences.Add(answer.Divergence[i], answer.DivergenceVariance[i], divergence);
+      for (std::size_t a = 0; a < 3; ++a)
+      {
+        if (answer.CurlVariance[3 * i + a] > 0.0)
+        {
+          curls.Add(answer.Curl[3 * i + a], answer.CurlVariance[3 * i + a], curl[a]);
+        }
+      }
+    }
+  }
+  EXPECT_GT(divergences.Count, 20 * caches);
+  ExpectPooledCalibrated(divergences, curls);
+}
+
+TEST(SphereCache, DivergenceAndCurlCalibrated)
+{
+  ExpectDivergenceAndCurlCalibrated<3>(12, 512);
+  ExpectDivergenceAndCurlCalibrated<2>(24, 1024);
+  // A scalar solution has none.
+  CacheDerivatives divergenceCurl;
+  divergenceCurl.DivergenceCurl = true;
+  ExpectRefused(ProblemOf<3>(MakeIcosphere(2), CacheCase<3>()), divergenceCurl);
 }
 
 // The screened equation (c = 4, u = e^{2x} + |x|², a source): the
