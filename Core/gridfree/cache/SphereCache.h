@@ -1224,11 +1224,7 @@ private:
               first = term;
             }
           }
-          for (std::size_t v = 0; v < term.size(); ++v)
-          {
-            sum[v] += 0.5 * (first[v] + term[v]);
-            squares[v] += 0.25 * (first[v] - term[v]) * (first[v] - term[v]);
-          }
+          AddStratumPair(first, term, sum, squares);
         }
         for (int c = 0; c < nc; ++c)
         {
@@ -1378,11 +1374,7 @@ private:
           first = term;
         }
       }
-      for (std::size_t v = 0; v < term.size(); ++v)
-      {
-        sum[v] += 0.5 * (first[v] + term[v]);
-        squares[v] += 0.25 * (first[v] - term[v]) * (first[v] - term[v]);
-      }
+      AddStratumPair(first, term, sum, squares);
     }
     const double K = static_cast<double>(strata);
     // Screened: ∫_B G_B dy = (1 − a_0)/k², its x-gradient −a_0' e/k².
@@ -1440,6 +1432,19 @@ private:
         into.DivergenceCurlVariance[static_cast<std::size_t>(v)] +=
           squares[static_cast<std::size_t>(divergences + v)] / (K * K);
       }
+    }
+  }
+
+  // A stratum's two draws (each a vector of terms): their mean joins `sum`,
+  // and the square of their half difference, an unbiased estimate of the
+  // mean's variance, joins `squares`.
+  static void AddStratumPair(const std::vector<double>& first, const std::vector<double>& second,
+    std::vector<double>& sum, std::vector<double>& squares)
+  {
+    for (std::size_t v = 0; v < second.size(); ++v)
+    {
+      sum[v] += 0.5 * (first[v] + second[v]);
+      squares[v] += 0.25 * (first[v] - second[v]) * (first[v] - second[v]);
     }
   }
 
