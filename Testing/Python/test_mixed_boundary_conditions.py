@@ -138,6 +138,27 @@ def assert_calibrated(scores):
     assert 0.7 < mean_z2 < 1.4, mean_z2
 
 
+def flux_solver(probe, association, seed, walks=256):
+    """A solver on `probe` (its Boundary still to be set) with values T and
+    the conditions bc and flux h, both with `association`."""
+    solver = SOLVER()
+    solver.SetProbeData(probe)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetMixedBoundaryConditions(True)
+    solver.SetInputArrayToProcess(4, 0, 0, association, "bc")
+    solver.SetInputArrayToProcess(5, 0, 0, association, "h")
+    solver.SetWalksPerPoint(walks)
+    solver.SetSeed(seed)
+    return solver
+
+
+def assert_solves_calibrated(solver, exact):
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(solver.GetOutput(), exact))
+
+
 def test_dirichlet_neumann_and_robin_faces_of_a_box():
     outside = [(0.9, 0.0, 0.0), (0.0, -0.8, 0.3)]
     solver = mixed_solver(box(), cloud(150, outside=outside))
@@ -457,19 +478,9 @@ def test_conditions_marked_by_regions_without_expressions():
         want = 1 if abs(abs(z) - 0.5) < 1e-9 else 0
         assert bc.GetValue(cell) == want, (cell, z)
         assert h.GetValue(cell) == (0.5 * (1 if z > 0 else -1) if want else 0.0)
-    solver = SOLVER()
+    solver = flux_solver(cloud(120), CELLS, seed=6)
     solver.SetBoundaryConnection(top.GetOutputPort())
-    solver.SetProbeData(cloud(120))
-    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
-    solver.SetMixedBoundaryConditions(True)
-    solver.SetInputArrayToProcess(4, 0, 0, CELLS, "bc")
-    solver.SetInputArrayToProcess(5, 0, 0, CELLS, "h")
-    solver.SetWalksPerPoint(256)
-    solver.SetSeed(6)
-    catcher = MessageCatcher(solver)
-    solver.Update()
-    assert not catcher.errors, catcher.error_text()
-    assert_calibrated(z_scores(solver.GetOutput(), u3))
+    assert_solves_calibrated(solver, u3)
     # Robin with its coefficient, inside a sphere; and no region is an error.
     ball = vtkSphere()
     ball.SetCenter(0.5, 0.5, 0.5)
@@ -601,19 +612,9 @@ def test_point_conditions_in_2d():
         points.InsertNextPoint(0.8 * ((i * 0.7548776662) % 1.0 - 0.5),
                                0.8 * ((i * 0.5698402910) % 1.0 - 0.5), 0.0)
     probe.SetPoints(points)
-    solver = SOLVER()
+    solver = flux_solver(probe, POINTS, seed=5)
     solver.SetBoundaryData(square_2d())
-    solver.SetProbeData(probe)
-    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
-    solver.SetMixedBoundaryConditions(True)
-    solver.SetInputArrayToProcess(4, 0, 0, POINTS, "bc")
-    solver.SetInputArrayToProcess(5, 0, 0, POINTS, "h")
-    solver.SetWalksPerPoint(256)
-    solver.SetSeed(5)
-    catcher = MessageCatcher(solver)
-    solver.Update()
-    assert not catcher.errors, catcher.error_text()
-    assert_calibrated(z_scores(solver.GetOutput(), lambda x, y, z: x * x - y * y))
+    assert_solves_calibrated(solver, lambda x, y, z: x * x - y * y)
 
 
 def failing_solve(configure, level=3):

@@ -97,17 +97,6 @@ struct CacheDerivatives
   bool DivergenceCurl = false;
 };
 
-// ∇·u and ∇×u from J(i, j) = ∂u_i/∂x_j (components i < 3, x_j < DIM; 0
-// beyond), as walk samples (DerivativeWalkOnSpheres::AddDivergenceCurl).
-template <int DIM, class Jacobian>
-void DivergenceAndCurl(const Jacobian& jacobian, double& divergence, double curl[3])
-{
-  const auto J = [&](int i, int j) { return j < DIM ? jacobian(i, j) : 0.0; };
-  divergence = J(0, 0) + J(1, 1) + J(2, 2);
-  curl[0] = J(2, 1) - J(1, 2);
-  curl[1] = J(0, 2) - J(2, 0);
-  curl[2] = J(1, 0) - J(0, 1);
-}
 
 struct CacheEvaluation
 {

@@ -65,6 +65,7 @@
 #include <gridfree/cache/ScreenedBallSeries.h>
 #include <gridfree/cache/WholeBoundary.h>
 #include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/math/DivergenceCurl.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/sources/SourceSet.h>

@@ -52,6 +52,7 @@
 
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/greens/GreensFunctionHessians.h>
+#include <gridfree/math/DivergenceCurl.h>
 #include <gridfree/greens/GreensFunctions.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/statistics/RunningStatistics.h>
@@ -597,13 +598,14 @@ private:
   void AddDivergenceCurl()
   {
     const SampleLayout& l = this->Slots;
-    auto jacobian = [&](int i, int j) {
-      return j < DIM ? this->Sample[l.Gradient + i * DIM + j] : 0.0;
-    };
-    this->Sample[l.Divergence] = jacobian(0, 0) + jacobian(1, 1) + jacobian(2, 2);
-    this->Sample[l.Curl + 0] = jacobian(2, 1) - jacobian(1, 2);
-    this->Sample[l.Curl + 1] = jacobian(0, 2) - jacobian(2, 0);
-    this->Sample[l.Curl + 2] = jacobian(1, 0) - jacobian(0, 1);
+    double curl[3];
+    DivergenceAndCurl<DIM>(
+      [&](int i, int j) { return this->Sample[l.Gradient + i * DIM + j]; },
+      this->Sample[l.Divergence], curl);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Sample[l.Curl + a] = curl[a];
+    }
   }
 
   WalkSettings Settings;
