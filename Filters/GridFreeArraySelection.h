@@ -5,7 +5,9 @@
 // themselves. Indices: 0 the boundary values g, 1 the biharmonic Laplacian
 // h, 2 the source term, 3 the back side's g of two-sided values, 4 the
 // boundary condition of mixed conditions, 5 their Neumann flux h, 6 their
-// Robin coefficient μ.
+// Robin coefficient μ, 7 the diffusion coefficient α and 8 the absorption
+// coefficient σ of the equation with varying coefficients (point arrays of
+// the Source input, like 2, its f).
 // Private to the GridFree::Filters module.
 #ifndef GridFreeArraySelection_h
 #define GridFreeArraySelection_h
@@ -29,7 +31,7 @@ struct ArraySelection
 
 struct ArraySelections
 {
-  static constexpr int Count = 7;
+  static constexpr int Count = 9;
   std::array<ArraySelection, Count> Index;
 
   // The selections made on `algorithm` with SetInputArrayToProcess.

@@ -2,6 +2,7 @@
 
 #include "GridFreeBoundaryAssembly.h"
 #include "GridFreeCacheSlot.h"
+#include "GridFreeCoefficientConversion.h"
 #include "GridFreeBoundaryValueArrays.h"
 #include "GridFreeInputFingerprint.h"
 #include "GridFreeProblemInputs.h"
@@ -13,6 +14,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
+#include "vtkImageData.h"
 #include "vtkImplicitFunction.h"
 #include "vtkNew.h"
 #include "vtkCellData.h"
@@ -286,6 +288,62 @@ struct ProblemBuilder::Internals
 
   template <int DIM>
   bool Make(vtkObject* self, ProblemBuilder& builder, BuiltProblem& out);
+
+  // The coefficients of the varying equation, kept while their image, its
+  // arrays, the constants, the smoothing and the domain stay the same (the
+  // smoothing and the bound grid are the expensive part of a build).
+  std::vector<std::uint64_t> CoefficientKey;
+  std::shared_ptr<const CoefficientModel<2>> Coefficients2;
+  std::shared_ptr<const CoefficientModel<3>> Coefficients3;
+
+  template <int DIM>
+  std::shared_ptr<const CoefficientModel<DIM>> CoefficientsFor(
+    vtkObject* self, const BoundingBox<DIM>& domain)
+  {
+    const ProblemInputs& in = this->Inputs;
+    const SolveSettings& s = this->Settings;
+    std::vector<std::uint64_t> key{ static_cast<std::uint64_t>(DIM) };
+    for (vtkObject* object : { static_cast<vtkObject*>(in.CoefficientImage),
+           static_cast<vtkObject*>(in.DiffusionArray), static_cast<vtkObject*>(in.AbsorptionArray),
+           static_cast<vtkObject*>(in.CoefficientSourceArray) })
+    {
+      AppendFingerprint(object, key);
+      key.push_back(~std::uint64_t(0));
+    }
+    for (double v : { s.DiffusionCoefficient, s.AbsorptionCoefficient, s.CoefficientSmoothing })
+    {
+      AppendDouble(v, key);
+    }
+    for (int i = 0; i < DIM; ++i)
+    {
+      AppendDouble(domain.Min[i], key);
+      AppendDouble(domain.Max[i], key);
+    }
+    auto& kept = [this]() -> std::shared_ptr<const CoefficientModel<DIM>>& {
+      if constexpr (DIM == 2)
+      {
+        return this->Coefficients2;
+      }
+      else
+      {
+        return this->Coefficients3;
+      }
+    }();
+    if (kept && key == this->CoefficientKey)
+    {
+      return kept;
+    }
+    std::string reason;
+    kept = MakeCoefficientModel<DIM>(in, s, domain, reason);
+    if (!kept)
+    {
+      this->CoefficientKey.clear();
+      vtkErrorWithObjectMacro(self, << "Cannot use the coefficients: " << reason << ".");
+      return nullptr;
+    }
+    this->CoefficientKey = std::move(key);
+    return kept;
+  }
 };
 
 ProblemBuilder::ProblemBuilder()
@@ -304,6 +362,9 @@ void ProblemBuilder::Forget()
   this->Internal->Mixed3.reset();
   this->Internal->CacheKey.clear();
   this->Internal->Caches.reset();
+  this->Internal->CoefficientKey.clear();
+  this->Internal->Coefficients2.reset();
+  this->Internal->Coefficients3.reset();
 }
 
 bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
@@ -513,11 +574,35 @@ bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
     return false;
   }
 
+  const bool varying = settings.Equation == Equation::VaryingCoefficients;
+  if (varying)
+  {
+    // What walk on spheres with delta tracking does not give (yet).
+    const char* unsupported = settings.MixedBoundaryConditions ? "mixed boundary conditions"
+      : settings.Estimator != Estimator::PointwiseWalks       ? "a solution cache (Estimator)"
+      : settings.ComputeHessian                               ? "the Hessian"
+      : settings.ComputeDirectionalDerivative                 ? "the directional derivative"
+                                                              : nullptr;
+    if (unsupported)
+    {
+      vtkErrorWithObjectMacro(self, << "The equation with varying coefficients is not available "
+                                       "with "
+                                    << unsupported
+                                    << ": it gives values and gradients by pointwise walks with "
+                                       "Dirichlet conditions.");
+      return false;
+    }
+    if (!ResolveCoefficientArrays(self, settings, arrays, source, inputs))
+    {
+      return false;
+    }
+  }
+
   // Source terms: the Source input's point array and the expression.
   const bool hasExpression = !settings.SourceExpression.empty();
   const bool usesSources = settings.Equation == Equation::Poisson ||
     settings.Equation == Equation::ScreenedPoisson;
-  if ((source || hasExpression) && !usesSources)
+  if ((source || hasExpression) && !usesSources && !varying)
   {
     vtkWarningWithObjectMacro(self, << "The source term (Source input or SourceExpression) is "
                                        "ignored: only the Poisson and screened Poisson equations "
@@ -674,8 +759,29 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
                                      "(0) or Robin (2), or use the screened Poisson equation.");
     return false;
   }
-  auto problem = mixed ? std::make_shared<const Problem<DIM>>(mixed, settings, sources)
-                       : std::make_shared<const Problem<DIM>>(shared, settings, sources);
+  std::shared_ptr<const Problem<DIM>> problem;
+  if (settings.Problem == Equation::VaryingCoefficients)
+  {
+    if (nc != 1)
+    {
+      vtkErrorWithObjectMacro(self, << "The equation with varying coefficients takes boundary "
+                                       "values of one component; the boundary array has "
+                                    << nc << ".");
+      return false;
+    }
+    auto model = this->CoefficientsFor<DIM>(self,
+      BoundingBox<DIM>(shared->BoundsMin(), shared->BoundsMax()));
+    if (!model)
+    {
+      return false;
+    }
+    problem = std::make_shared<const Problem<DIM>>(shared, settings, model);
+  }
+  else
+  {
+    problem = mixed ? std::make_shared<const Problem<DIM>>(mixed, settings, sources)
+                    : std::make_shared<const Problem<DIM>>(shared, settings, sources);
+  }
   if constexpr (DIM == 2)
   {
     out.Problem2 = problem;

@@ -16,6 +16,7 @@
 
 class vtkDataArray;
 class vtkDataSet;
+class vtkImageData;
 class vtkImplicitFunction;
 class vtkPolyData;
 
@@ -48,6 +49,13 @@ struct ProblemInputs
 
   vtkDataSet* Source = nullptr;
   vtkDataArray* SourceArray = nullptr;
+  // The equation with varying coefficients: the image its arrays lie on
+  // (null: constants only), α (selection 7), σ (8) and f (2), each null
+  // for the setting's constant (f: 0).
+  vtkImageData* CoefficientImage = nullptr;
+  vtkDataArray* DiffusionArray = nullptr;
+  vtkDataArray* AbsorptionArray = nullptr;
+  vtkDataArray* CoefficientSourceArray = nullptr;
   std::string Expression;
   // The points the problem is asked about: implicit and CSG boundaries are
   // built in a region around them.

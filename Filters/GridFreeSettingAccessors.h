@@ -33,6 +33,12 @@ inline void PrintProblemSettings(std::ostream& os, vtkIndent indent, const Solve
   os << indent << "MixedBoundaryConditions: " << onOff(s.MixedBoundaryConditions) << "\n";
   os << indent << "Equation: " << CodeOf(s.Equation) << "\n";
   os << indent << "ScreeningCoefficient: " << s.ScreeningCoefficient << "\n";
+  os << indent << "DiffusionCoefficient: " << s.DiffusionCoefficient << "\n";
+  os << indent << "AbsorptionCoefficient: " << s.AbsorptionCoefficient << "\n";
+  os << indent << "CoefficientSmoothing: " << s.CoefficientSmoothing << "\n";
+  os << indent << "DiffusionFromArray: " << onOff(s.DiffusionFromArray) << "\n";
+  os << indent << "AbsorptionFromArray: " << onOff(s.AbsorptionFromArray) << "\n";
+  os << indent << "SourceTermFromArray: " << onOff(s.SourceTermFromArray) << "\n";
   os << indent << "SourceExpression: " << text(s.SourceExpression) << "\n";
   os << indent << "SourceSampling: " << CodeOf(s.SourceSampling) << "\n";
   os << indent << "SourceOperator: " << CodeOf(s.SourceOperator) << "\n";

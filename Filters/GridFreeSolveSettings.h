@@ -58,6 +58,20 @@ struct SolveSettings
   gridfree::SourceOperator SourceOperator = gridfree::SourceOperator::Value;
   gridfree::BiharmonicStrategy BiharmonicStrategy = gridfree::BiharmonicStrategy::TreeWalking;
   int NestedWalks = 1;
+  // The equation with varying coefficients, ∇·(α∇u) − σu = f: α and σ where
+  // no array of the Source input gives them (selections 7 and 8), and the
+  // Gaussian smoothing width of the arrays (world units; the cubic B-spline
+  // adds its own, gridfree/coefficients/ImageCoefficients.h).
+  double DiffusionCoefficient = 1.0;
+  double AbsorptionCoefficient = 0.0;
+  double CoefficientSmoothing = 0.0;
+  // Whether α, σ and f are read from their arrays (selections 7, 8 and 2)
+  // at all. On by default for C++ and Python (no selection: the constants);
+  // the plugin starts them off, so that choosing the equation never takes
+  // the image's active scalars (CT values) as a coefficient by default.
+  bool DiffusionFromArray = true;
+  bool AbsorptionFromArray = true;
+  bool SourceTermFromArray = true;
 
   // The walks (the sampling settings every filter shares).
   int WalksPerPoint = 128;

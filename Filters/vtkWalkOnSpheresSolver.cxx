@@ -200,7 +200,8 @@ void AssignCode(std::optional<gridfree::CsgOperation>& operation, int code)
     }                                                                                              \
   }                                                                                                \
   int vtkWalkOnSpheresSolver::Get##name() { return gridfree::CodeOf(this->GetSettings().name); }
-GRIDFREE_CHOICE_SETTER(Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic")
+GRIDFREE_CHOICE_SETTER(
+  Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic", "varying coefficients")
 GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
 GRIDFREE_CHOICE_SETTER(
   SourceSampling, "uniform", "Green's function", "multiple importance", "source density")
@@ -215,6 +216,13 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, MixedBoundaryConditions, bool
 // Unclamped, as before: the problem's check reports a negative coefficient.
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ScreeningCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, NestedWalks, int, 1, VTK_INT_MAX)
+// Unclamped: the problem builder names a coefficient that cannot be used.
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, DiffusionCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, AbsorptionCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, CoefficientSmoothing, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, DiffusionFromArray, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, AbsorptionFromArray, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, SourceTermFromArray, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeGradient, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeHessian, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ControlVariates, bool, false, true)
@@ -461,7 +469,9 @@ static_assert(vtkWalkOnSpheresSolver::LAPLACE == static_cast<int>(gridfree::Equa
   vtkWalkOnSpheresSolver::POISSON == static_cast<int>(gridfree::Equation::Poisson) &&
   vtkWalkOnSpheresSolver::SCREENED_POISSON ==
     static_cast<int>(gridfree::Equation::ScreenedPoisson) &&
-  vtkWalkOnSpheresSolver::BIHARMONIC == static_cast<int>(gridfree::Equation::Biharmonic));
+  vtkWalkOnSpheresSolver::BIHARMONIC == static_cast<int>(gridfree::Equation::Biharmonic) &&
+  vtkWalkOnSpheresSolver::VARYING_COEFFICIENTS ==
+    static_cast<int>(gridfree::Equation::VaryingCoefficients));
 static_assert(vtkWalkOnSpheresSolver::UNIFORM == static_cast<int>(gridfree::SourceSampling::Uniform) &&
   vtkWalkOnSpheresSolver::GREENS_FUNCTION ==
     static_cast<int>(gridfree::SourceSampling::GreensFunction) &&

@@ -13,6 +13,8 @@
  * - Laplace: Δu = 0, u = g (the default);
  * - Poisson: Δu = f, u = g;
  * - ScreenedPoisson: Δu − c·u = f, u = g, with ScreeningCoefficient c > 0;
+ * - VaryingCoefficients: ∇·(α∇u) − σu = f, u = g, with α, σ, f from arrays
+ *   of a vtkImageData Source (SetDiffusionCoefficient below);
  * - Biharmonic: Δ²u = 0, u = g and Δu = h on the boundary.
  * The sign convention is the standard Laplacian: Δ|x|² = 2n.
  *
@@ -298,7 +300,8 @@ public:
     LAPLACE = 0,
     POISSON = 1,
     SCREENED_POISSON = 2,
-    BIHARMONIC = 3
+    BIHARMONIC = 3,
+    VARYING_COEFFICIENTS = 4
   };
 
   ///@{
@@ -311,6 +314,50 @@ public:
   void SetEquationToPoisson() { this->SetEquation(POISSON); }
   void SetEquationToScreenedPoisson() { this->SetEquation(SCREENED_POISSON); }
   void SetEquationToBiharmonic() { this->SetEquation(BIHARMONIC); }
+  void SetEquationToVaryingCoefficients() { this->SetEquation(VARYING_COEFFICIENTS); }
+  ///@}
+
+  ///@{
+  /**
+   * The equation with varying coefficients, ∇·(α∇u) − σu = f with u = g on
+   * the boundary (the Pennes bioheat equation for u = T − T_a with α the
+   * conductivity, σ the perfusion and f = −Q the metabolic heat; α = 1,
+   * σ = 0 is the Poisson equation Δu = f). α, σ and f come from point
+   * arrays of a vtkImageData on the Source port that covers the boundary:
+   * input arrays 7 (α), 8 (σ) and 2 (f), each chosen by name with
+   * SetInputArrayToProcess; without a choice α is DiffusionCoefficient
+   * (default 1), σ is AbsorptionCoefficient (default 0) and f is 0. The
+   * arrays are smoothed by a Gaussian of standard deviation
+   * CoefficientSmoothing (world units, default 0) and by their cubic
+   * B-spline (standard deviation h/√3 for a spacing h), which makes α twice
+   * differentiable, as the walk needs. α > 0 and σ ≥ 0 everywhere. Walk on
+   * spheres with delta tracking (Sawhney et al. 2022): values and
+   * gradients with their variances; Dirichlet conditions, pointwise walks.
+   */
+  virtual void SetDiffusionCoefficient(double value);
+  double GetDiffusionCoefficient();
+  virtual void SetAbsorptionCoefficient(double value);
+  double GetAbsorptionCoefficient();
+  virtual void SetCoefficientSmoothing(double value);
+  double GetCoefficientSmoothing();
+  ///@}
+
+  ///@{
+  /**
+   * Whether the equation with varying coefficients reads α, σ and f from
+   * input arrays 7, 8 and 2 at all (default on; an array not chosen still
+   * means the constant). ParaView's panel starts them off, so that an image
+   * on the Source port never gives a coefficient by default.
+   */
+  virtual void SetDiffusionFromArray(bool value);
+  bool GetDiffusionFromArray();
+  vtkBooleanMacro(DiffusionFromArray, bool);
+  virtual void SetAbsorptionFromArray(bool value);
+  bool GetAbsorptionFromArray();
+  vtkBooleanMacro(AbsorptionFromArray, bool);
+  virtual void SetSourceTermFromArray(bool value);
+  bool GetSourceTermFromArray();
+  vtkBooleanMacro(SourceTermFromArray, bool);
   ///@}
 
   ///@{

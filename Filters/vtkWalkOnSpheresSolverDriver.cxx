@@ -61,6 +61,13 @@ void vtkWalkOnSpheresSolverDriver::SetSourceData(vtkDataObject* data)
 }
 
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ScreeningCoefficient, double, 0.0, VTK_DOUBLE_MAX)
+// Unclamped: the problem builder names a bad coefficient.
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, DiffusionCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AbsorptionCoefficient, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, CoefficientSmoothing, double, 0.0, VTK_DOUBLE_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, DiffusionFromArray, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AbsorptionFromArray, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceTermFromArray, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ControlVariates, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AntitheticPairs, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
@@ -69,7 +76,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, TwoSidedBoundaryValues,
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, MixedBoundaryConditions, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NestedWalks, int, 1, VTK_INT_MAX)
 
-GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, Equation, gridfree::Equation, 3)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, Equation, gridfree::Equation, 4)
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceSampling, gridfree::SourceSampling, 3)
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceOperator, gridfree::SourceOperator, 2)
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, BiharmonicStrategy, gridfree::BiharmonicStrategy, 1)

@@ -61,13 +61,34 @@ public:
   ///@{
   /**
    * The equation (vtkWalkOnSpheresSolver::EquationType: Laplace 0, Poisson
-   * 1, screened Poisson 2, biharmonic 3; default Laplace) and its screening
-   * coefficient c > 0 (default 1).
+   * 1, screened Poisson 2, biharmonic 3, varying coefficients 4; default
+   * Laplace) and its screening coefficient c > 0 (default 1).
    */
   void SetEquation(int equation);
   int GetEquation();
   void SetScreeningCoefficient(double c);
   double GetScreeningCoefficient();
+  ///@}
+
+  ///@{
+  /**
+   * The equation with varying coefficients (vtkWalkOnSpheresSolver's
+   * properties of the same names): the constant α and σ where input arrays
+   * 7 and 8 (point arrays of a vtkImageData Source) give none, the arrays'
+   * Gaussian smoothing width, and whether α, σ and f are read from arrays.
+   */
+  void SetDiffusionCoefficient(double alpha);
+  double GetDiffusionCoefficient();
+  void SetAbsorptionCoefficient(double sigma);
+  double GetAbsorptionCoefficient();
+  void SetCoefficientSmoothing(double width);
+  double GetCoefficientSmoothing();
+  void SetDiffusionFromArray(bool fromArray);
+  bool GetDiffusionFromArray();
+  void SetAbsorptionFromArray(bool fromArray);
+  bool GetAbsorptionFromArray();
+  void SetSourceTermFromArray(bool fromArray);
+  bool GetSourceTermFromArray();
   ///@}
 
   /**

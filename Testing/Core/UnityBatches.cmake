@@ -10,7 +10,10 @@ function(gridfree_unity_batches target test_dir)
   foreach (file IN ITEMS geometry/TestBvh geometry/TestBvhRays sources/TestConcentratedSources
       applications/TestCrossField implicit/TestCsgFunctionsCachedBounds
       estimators/TestDerivativeWalkOnSpheres estimators/TestWalkOnSpheresExterior
-      estimators/TestWalkOnSpheresPoisson cache/TestScreenedBallSeries)
+      estimators/TestWalkOnSpheresPoisson cache/TestScreenedBallSeries
+      estimators/TestVaryingCoefficientWalk coefficients/TestVaryingCoefficients
+      coefficients/TestScreeningMajorant coefficients/TestImageCoefficients
+      estimators/TestVaryingCoefficientWalkCtReference)
     set_source_files_properties("${test_dir}/${file}.cxx" TARGET_DIRECTORY ${target}
       PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
   endforeach ()

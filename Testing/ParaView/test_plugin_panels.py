@@ -127,15 +127,28 @@ for name in ("WalkOnSpheresSolver", "WalkOnSpheresStreamTracer", "WalkOnSpheresA
     check(labels[0] == "Equation" and labels[-1] == "Advanced"
           and labels[-2] == "Implicit Boundary and CSG",
           "%s: groups in the order %s" % (name, labels))
+    # The source array also gives f of the equation with varying
+    # coefficients, whose own properties show for it alone.
+    shown_only_for = {"SourceArray": ["1", "2", "4"], "SourceExpression": ["1", "2"],
+                      "SourceOperator": ["1", "2"], "SourceSampling": ["1", "2"]}
+    for varying in ("DiffusionFromArray", "DiffusionArray", "DiffusionCoefficient",
+                    "AbsorptionFromArray", "AbsorptionArray", "AbsorptionCoefficient",
+                    "SourceTermFromArray", "CoefficientSmoothing"):
+        shown_only_for[varying] = ["4"]
+    found = set()
     for prop in proxy:
-        if prop.get("name") in ("SourceArray", "SourceExpression", "SourceOperator", "SourceSampling"):
+        if prop.get("name") in shown_only_for:
+            found.add(prop.get("name"))
             shown_for = sorted(d.get("value") for d in prop.iter("PropertyWidgetDecorator")
                                if d.get("property") == "Equation")
-            check(shown_for == ["1", "2"], "%s.%s is shown for equations %s, not Poisson and "
-                  "screened Poisson only" % (name, prop.get("name"), shown_for))
+            check(shown_for == shown_only_for[prop.get("name")],
+                  "%s.%s is shown for equations %s, not %s" % (
+                      name, prop.get("name"), shown_for, shown_only_for[prop.get("name")]))
+    check(found == set(shown_only_for), "%s lacks %s" % (name, set(shown_only_for) - found))
     equations = [e.get("text") for prop in proxy if prop.get("name") == "Equation"
                  for e in prop.iter("Entry")]
-    check(equations == ["Laplace", "Poisson", "Screened Poisson", "Biharmonic"],
+    check(equations == ["Laplace", "Poisson", "Screened Poisson", "Biharmonic",
+                        "Varying Coefficients"],
           "%s offers the equations %s" % (name, equations))
 
 # Each shared property is defined once in the sources (Plugin/Shared) and

@@ -146,7 +146,7 @@ def test_enumeration_values_out_of_range_are_errors_that_name_the_choices():
     solver.SetEquation(7)
     assert solver.GetEquation() == gridfree.vtkWalkOnSpheresSolver.LAPLACE
     assert "SetEquation(7): Equation is one of 0 Laplace, 1 Poisson, 2 screened Poisson, " \
-        "3 biharmonic; it stays Laplace." in catcher.error_text()
+        "3 biharmonic, 4 varying coefficients; it stays Laplace." in catcher.error_text()
     solver.SetSourceSampling(9)
     assert solver.GetSourceSampling() == gridfree.vtkWalkOnSpheresSolver.GREENS_FUNCTION
     assert "SetSourceSampling(9)" in catcher.error_text()

@@ -14,7 +14,10 @@ enum class Equation
   Laplace,
   Poisson,
   ScreenedPoisson,
-  Biharmonic
+  Biharmonic,
+  // ∇·(α∇u) − σu = f with varying α, σ, f (VaryingCoefficientWalk.h); the
+  // coefficients come with the problem, not the settings.
+  VaryingCoefficients
 };
 
 enum class BiharmonicStrategy

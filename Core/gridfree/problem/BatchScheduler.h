@@ -207,6 +207,13 @@ private:
   template <class RunWith>
   bool WithEstimator(RunWith&& run)
   {
+    if (this->P.Coefficients)
+    {
+      VaryingCoefficientEstimator<DIM> estimator(*this->P.Shape, *this->P.Coefficients->Field,
+        *this->P.Coefficients->Majorant, this->P.VaryingSettings(this->Request.Derivatives.Gradient));
+      run(estimator);
+      return true;
+    }
     auto volume = this->P.MakeVolume();
     if (this->DerivativeWalks && this->P.Mixed)
     {

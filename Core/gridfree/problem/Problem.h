@@ -15,7 +15,9 @@
 #define GRIDFREE_PROBLEM_PROBLEM_H
 
 #include <gridfree/boundary/Boundary.h>
+#include <gridfree/coefficients/ScreeningMajorant.h>
 #include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/estimators/VaryingCoefficientWalk.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/problem/Batch.h>
@@ -79,6 +81,36 @@ public:
     (void)check;
   }
 
+  // A problem of the equation with varying coefficients, ∇·(α∇u) − σu = f
+  // with Dirichlet values (VaryingCoefficientWalk.h): settings.Problem must
+  // be Equation::VaryingCoefficients; the source is the coefficients' f.
+  // Answers values and gradients (no Hessian, directional derivative,
+  // divergence or curl).
+  Problem(std::shared_ptr<const Boundary<DIM>> boundary, const WalkSettings& settings,
+    std::shared_ptr<const CoefficientModel<DIM>> coefficients)
+    : Shape(std::move(boundary))
+    , Walk(settings)
+    , Coefficients(std::move(coefficients))
+  {
+    if (settings.Problem != Equation::VaryingCoefficients)
+    {
+      throw std::invalid_argument("coefficients are given: the equation must be the one with "
+                                  "varying coefficients");
+    }
+    if (!this->Coefficients || !this->Coefficients->Field || !this->Coefficients->Majorant)
+    {
+      throw std::invalid_argument("the equation with varying coefficients needs its coefficients "
+                                  "and a screening majorant");
+    }
+    this->Initialize();
+    VaryingCoefficientEstimator<DIM> check(*this->Shape, *this->Coefficients->Field,
+      *this->Coefficients->Majorant, this->VaryingSettings(false));
+    (void)check;
+  }
+
+  // The coefficients of a problem of the varying equation, or null.
+  const CoefficientModel<DIM>* GetCoefficients() const { return this->Coefficients.get(); }
+
   // The mixed boundary of a walk-on-stars problem, or null.
   const MixedBoundary<DIM>* GetMixedBoundary() const { return this->Mixed.get(); }
 
@@ -101,8 +133,13 @@ private:
     {
       throw std::invalid_argument("the screening coefficient must be positive");
     }
-    // A mixed problem's flux makes its values vary even with constant g.
-    this->ConstantData = !this->Mixed && this->Shape->ConstantValues() &&
+    if (this->Walk.Problem == Equation::VaryingCoefficients && !this->Coefficients)
+    {
+      throw std::invalid_argument("the equation with varying coefficients needs its coefficients");
+    }
+    // A mixed problem's flux makes its values vary even with constant g, and
+    // so do varying coefficients.
+    this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
       (!this->Sources || this->Sources->Empty());
     this->BuildSourceDensity();
   }
@@ -126,6 +163,21 @@ public:
   // Δu for the biharmonic equation) first, then the derivatives asked for.
   SampleLayout Layout(const BatchRequest& request) const
   {
+    if (this->Coefficients)
+    {
+      // u, then ∇u when asked for.
+      const DerivativeRequest& d = request.Derivatives;
+      if (d.Hessian || d.Directional || d.DivergenceCurl)
+      {
+        throw std::invalid_argument("the equation with varying coefficients gives values and "
+                                    "gradients only (no Hessian, directional derivative, "
+                                    "divergence or curl)");
+      }
+      SampleLayout layout;
+      layout.Gradient = d.Gradient ? 1 : -1;
+      layout.Size = d.Gradient ? 1 + DIM : 1;
+      return layout;
+    }
     if (request.DerivativeWalks() && this->Mixed)
     {
       auto volume = this->MakeVolume();
@@ -225,6 +277,18 @@ public:
   }
 
 private:
+  // The varying walk's settings from the problem's (its ε, step limit and
+  // far sphere), with or without the gradient.
+  VaryingCoefficientSettings VaryingSettings(bool gradient) const
+  {
+    VaryingCoefficientSettings s;
+    s.Epsilon = this->Walk.Epsilon;
+    s.MaxSteps = this->Walk.MaxSteps;
+    s.EscapeRadiusFactor = this->Walk.EscapeRadiusFactor;
+    s.Gradient = gradient;
+    return s;
+  }
+
   std::unique_ptr<VolumeSource<DIM>> MakeVolume() const
   {
     return this->Sources && this->Sources->MakeVolume
@@ -284,6 +348,7 @@ private:
   std::shared_ptr<const MixedBoundary<DIM>> Mixed;
   WalkSettings Walk;
   std::shared_ptr<const SourceSet<DIM>> Sources;
+  std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
   bool ConstantData = false; // constant boundary values and no sources
 };

@@ -14,11 +14,9 @@
 //   variance finite and removes any constant part of f exactly — the exact
 //   form of the paper's running-source-mean control variate for the gradient
 //   (Sec. 4.1.2).
-// - The radius is drawn from a mixture of ∝ r^{n−1}|∇G_harmonic| (which
-//   cancels the pole), ∝ r^{n−1} (which covers the rim, where M does not
-//   vanish) and, for strong screening, a truncated exponential e^{−sr} (which
-//   follows the Yukawa kernels' decay); the weight is |S| r^{n−1}/q(r) with the
-//   exact mixture density q, so any kernel stays unbiased.
+// - The radius is drawn from the mixture of FirstBallRadius.h, which cancels
+//   the pole, covers the rim (where M does not vanish) and follows strong
+//   screening's decay; its weight keeps any kernel unbiased.
 // - In the Hessian's f·M term, a running mean f̄ of f over the first ball is
 //   subtracted and its exact integral f̄ (C/n) I added back (Sec. 4.1.3 in
 //   spirit; ∫_B M = (C/n) I, GreensFunctionHessians.h).
@@ -28,6 +26,7 @@
 #define GRIDFREE_SOURCES_SOURCE_DERIVATIVES_H
 
 #include <gridfree/sampling/BallSampling.h>
+#include <gridfree/sampling/FirstBallRadius.h>
 #include <gridfree/greens/GreensFunctionHessians.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/sources/SourceTerms.h>
@@ -81,11 +80,10 @@ public:
     if (this->Volume)
     {
       const double z = std::sqrt(std::max(screening, 0.0)) * radius;
-      const double r = this->SampleRadius(radius, z, rng);
+      const double r = FirstBallRadius<DIM>::Sample(radius, z, rng);
       const Vec<DIM> omega = SampleUnitSphere<DIM>(rng);
       const Vec<DIM> d = r * omega;
-      const double weight =
-        UnitSphereArea<DIM>() * PowerOf<DIM - 1>(r) / this->RadialDensity(r, radius, z);
+      const double weight = FirstBallRadius<DIM>::Weight(r, radius, z);
       const double g = green.GradientMagnitude(r);
       if (wantHessian)
       {
@@ -186,51 +184,6 @@ private:
         out[i * DIM + j] += 0.5 * (h(i, j) + h(j, i));
       }
     }
-  }
-
-  // The exponential component only helps when the kernels decay within the
-  // ball (z > 1).
-  static int MixtureSize(double z) { return z > 1.0 ? 3 : 2; }
-
-  // Mixture of q_h ∝ 1 − (r/R)^n (∝ r^{n−1}|∇G| for c = 0), q_v ∝ r^{n−1}, and
-  // q_e ∝ e^{−sr}, all on (0, R).
-  static double SampleRadius(double radius, double z, RandomStream& rng)
-  {
-    const int parts = MixtureSize(z);
-    const double pick = rng.NextDouble() * parts;
-    if (pick < 1.0)
-    {
-      for (;;)
-      {
-        const double t = rng.NextDouble();
-        if (rng.NextDouble() < 1.0 - PowerOf<DIM>(t))
-        {
-          return std::max(t, 1e-300) * radius;
-        }
-      }
-    }
-    if (pick < 2.0)
-    {
-      return radius * std::pow(std::max(rng.NextDouble(), 1e-300), 1.0 / DIM);
-    }
-    const double s = z / radius;
-    const double r = -std::log1p(rng.NextDouble() * std::expm1(-z)) / s;
-    return std::min(std::max(r, 1e-300 * radius), radius);
-  }
-
-  static double RadialDensity(double r, double radius, double z)
-  {
-    const double n = DIM;
-    const double t = r / radius;
-    const double tn = PowerOf<DIM>(t);
-    const int parts = MixtureSize(z);
-    double q = (n + 1.0) / (n * radius) * (1.0 - tn) + n * PowerOf<DIM - 1>(t) / radius;
-    if (parts == 3)
-    {
-      const double s = z / radius;
-      q += s * std::exp(-s * r) / -std::expm1(-z);
-    }
-    return q / parts;
   }
 
   int Components;

@@ -246,24 +246,21 @@ struct DerivativeRun
   int Size = 0;
 };
 
-// Estimator: DerivativeWalkOnSpheres<DIM> or another continuation of it
-// (StarDerivativeWalks<DIM> with a MixedBoundary).
-template <int DIM, class Estimator = DerivativeWalkOnSpheres<DIM>>
-DerivativeRun RunDerivativeEstimator(const typename Estimator::BoundaryType& boundary,
-  const WalkSettings& settings,
-  const DerivativeRequest& request, const std::vector<Vec<DIM>>& points, int walks,
-  std::uint64_t seed, VolumeSource<DIM>* volume = nullptr,
-  const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>(),
-  int threads = 2)
+// Runs `walks` walks at every point (on `threads` threads) with an
+// estimator from makeEstimator() per thread, whose samples have `size`
+// slots; a point's status is what its EstimatePoint returns.
+template <int DIM, class MakeEstimator>
+DerivativeRun RunPointEstimator(const std::vector<Vec<DIM>>& points, int size, int walks,
+  std::uint64_t seed, int threads, MakeEstimator&& makeEstimator)
 {
   DerivativeRun run;
-  run.Size = Estimator(boundary, settings, request, volume, concentrated).Layout().Size;
+  run.Size = size;
   run.Mean.resize(points.size() * run.Size);
   run.Variance.resize(points.size() * run.Size);
   run.Status.resize(points.size());
   ParallelForWithProgress(points.size(), threads,
     [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
-      Estimator estimator(boundary, settings, request, volume, concentrated);
+      auto estimator = makeEstimator();
       RunningStatistics stats(run.Size);
       WalkCounters counters;
       for (std::size_t i = begin; i < end; ++i)
@@ -284,6 +281,21 @@ DerivativeRun RunDerivativeEstimator(const typename Estimator::BoundaryType& bou
     },
     nullptr);
   return run;
+}
+
+// Estimator: DerivativeWalkOnSpheres<DIM> or another continuation of it
+// (StarDerivativeWalks<DIM> with a MixedBoundary).
+template <int DIM, class Estimator = DerivativeWalkOnSpheres<DIM>>
+DerivativeRun RunDerivativeEstimator(const typename Estimator::BoundaryType& boundary,
+  const WalkSettings& settings,
+  const DerivativeRequest& request, const std::vector<Vec<DIM>>& points, int walks,
+  std::uint64_t seed, VolumeSource<DIM>* volume = nullptr,
+  const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>(),
+  int threads = 2)
+{
+  const int size = Estimator(boundary, settings, request, volume, concentrated).Layout().Size;
+  return RunPointEstimator<DIM>(points, size, walks, seed, threads,
+    [&]() { return Estimator(boundary, settings, request, volume, concentrated); });
 }
 
 // Calibration of each checked slot over all points of a run.

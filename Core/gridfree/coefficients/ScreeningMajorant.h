@@ -1,0 +1,307 @@
+// The screening σ̄ a walk of the varying equation uses on one ball
+// (VaryingCoefficientWalk.h). On B(x, R) the walk writes ΔU − σ′U = f′ as
+//
+//   ΔU − σ̄ U = f′ − (σ̄ − σ′) U,
+//
+// which holds for any constant σ̄ ≥ 0, so unbiasedness never depends on the
+// choice; the variance and the cost do. A collision at y multiplies the walk
+// by 1 − σ′(y)/σ̄: in [0, 1] (taken by roulette) when 0 ≤ σ′ ≤ σ̄, above 1
+// where σ′ < 0, negative where σ̄ < σ′. So σ̄ should bound σ′ on the ball
+// from above and bound 2|σ′| where σ′ is negative (weights at most 3/2), but
+// no larger: collisions become more frequent as σ̄R² grows. σ̄ = 0 says that
+// σ′ ≡ 0 on the ball (a harmonic step, no collisions).
+//
+// A bound per ball rather than one for the whole domain is what keeps the
+// walk cheap where the coefficients are flat (Sawhney et al. 2022, Sec. 5,
+// suggest bounds over regions): ScreeningBoundGrid samples σ′ on a lattice
+// over a box and keeps min/max pyramids, so a ball of any size reads at most
+// 2^n cells of the level whose cells are at least its diameter.
+#ifndef GRIDFREE_COEFFICIENTS_SCREENING_MAJORANT_H
+#define GRIDFREE_COEFFICIENTS_SCREENING_MAJORANT_H
+
+#include <gridfree/coefficients/VaryingCoefficients.h>
+#include <gridfree/math/Vector.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace gridfree
+{
+template <int DIM>
+class ScreeningMajorant
+{
+public:
+  virtual ~ScreeningMajorant() = default;
+  // σ̄ ≥ 0 for the ball B(center, radius).
+  virtual double ForBall(const Vec<DIM>& center, double radius) const = 0;
+};
+
+// From the lowest and highest σ′ on a region: the σ̄ the walk should use.
+inline double MajorantFromRange(double lowest, double highest)
+{
+  return std::max({ highest, -2.0 * lowest, 0.0 });
+}
+
+// One σ̄ everywhere.
+template <int DIM>
+class ConstantScreeningMajorant final : public ScreeningMajorant<DIM>
+{
+public:
+  explicit ConstantScreeningMajorant(double value)
+    : Value(value)
+  {
+    if (!(value >= 0.0) || !std::isfinite(value))
+    {
+      throw std::invalid_argument("the screening majorant must be finite and >= 0");
+    }
+  }
+  double ForBall(const Vec<DIM>&, double) const override { return this->Value; }
+
+private:
+  double Value;
+};
+
+// σ′ sampled on a lattice of (cells·k + 1)^n points over a box; each finest
+// cell keeps the lowest and highest sample on its closed cell, widened by
+// Margin times their spread (sampling misses extrema between lattice
+// points; a miss costs variance, never bias). Coarser levels halve the cells
+// per axis and keep the extremes of their children.
+template <int DIM>
+class ScreeningBoundGrid final : public ScreeningMajorant<DIM>
+{
+public:
+  struct Settings
+  {
+    int Cells = 32;            // finest cells per axis (rounded up to a power of 2)
+    int SamplesPerCell = 3;    // lattice intervals per cell and axis
+    double Margin = 0.25;
+  };
+
+  ScreeningBoundGrid(const CoefficientField<DIM>& field, const Vec<DIM>& boxMin,
+    const Vec<DIM>& boxMax, const Settings& settings)
+    : Min(boxMin)
+  {
+    if (!(boxMax - boxMin).allFinite() || !((boxMax - boxMin).minCoeff() > 0.0))
+    {
+      throw std::invalid_argument("screening bounds: the box must be finite and not flat");
+    }
+    int cells = 1;
+    while (cells < std::max(1, settings.Cells))
+    {
+      cells *= 2;
+    }
+    const int k = std::max(1, settings.SamplesPerCell);
+    this->CellSize = (boxMax - boxMin) / cells;
+    const int lattice = cells * k + 1;
+    std::size_t latticePoints = 1;
+    for (int i = 0; i < DIM; ++i)
+    {
+      latticePoints *= static_cast<std::size_t>(lattice);
+    }
+    std::vector<double> sampled(latticePoints);
+    // The first lattice point (in index order) where the coefficients are
+    // unusable, so the message names the same place on any thread count.
+    std::atomic<std::size_t> firstBad{ latticePoints };
+    const Vec<DIM> step = this->CellSize / k;
+    auto pointOf = [&](std::size_t index) {
+      Vec<DIM> x;
+      for (int i = 0; i < DIM; ++i)
+      {
+        x[i] = boxMin[i] + step[i] * static_cast<double>(index % lattice);
+        index /= lattice;
+      }
+      return x;
+    };
+    tbb::parallel_for(std::size_t(0), latticePoints, [&](std::size_t index) {
+      CoefficientSample<DIM> c;
+      field.Evaluate(pointOf(index), c);
+      sampled[index] = Transform(c).Screening;
+      if (!CoefficientsUsable(c) || !std::isfinite(sampled[index]))
+      {
+        std::size_t seen = firstBad.load();
+        while (index < seen && !firstBad.compare_exchange_weak(seen, index))
+        {
+        }
+      }
+    });
+    if (firstBad.load() < latticePoints)
+    {
+      const Vec<DIM> x = pointOf(firstBad.load());
+      CoefficientSample<DIM> c;
+      field.Evaluate(x, c);
+      throw std::invalid_argument(DescribeUnusable(c, x));
+    }
+
+    // Finest level from the lattice.
+    Level finest;
+    finest.Cells = cells;
+    finest.Low.assign(CellCount(cells), std::numeric_limits<double>::infinity());
+    finest.High.assign(CellCount(cells), -std::numeric_limits<double>::infinity());
+    for (std::size_t cell = 0; cell < finest.Low.size(); ++cell)
+    {
+      std::array<int, DIM> c = Unflatten(cell, cells);
+      std::array<int, DIM> offset{};
+      double lo = std::numeric_limits<double>::infinity();
+      double hi = -lo;
+      for (;;)
+      {
+        std::size_t index = 0, stride = 1;
+        for (int i = 0; i < DIM; ++i)
+        {
+          index += stride * static_cast<std::size_t>(c[i] * k + offset[i]);
+          stride *= static_cast<std::size_t>(lattice);
+        }
+        lo = std::min(lo, sampled[index]);
+        hi = std::max(hi, sampled[index]);
+        int axis = 0;
+        while (axis < DIM && ++offset[axis] > k)
+        {
+          offset[axis++] = 0;
+        }
+        if (axis == DIM)
+        {
+          break;
+        }
+      }
+      const double widen = settings.Margin * (hi - lo);
+      finest.Low[cell] = lo - widen;
+      finest.High[cell] = hi + widen;
+    }
+    this->Levels.push_back(std::move(finest));
+    while (this->Levels.back().Cells > 1)
+    {
+      const Level& fine = this->Levels.back();
+      Level coarse;
+      coarse.Cells = fine.Cells / 2;
+      coarse.Low.assign(CellCount(coarse.Cells), std::numeric_limits<double>::infinity());
+      coarse.High.assign(CellCount(coarse.Cells), -std::numeric_limits<double>::infinity());
+      for (std::size_t cell = 0; cell < fine.Low.size(); ++cell)
+      {
+        std::array<int, DIM> c = Unflatten(cell, fine.Cells);
+        for (int i = 0; i < DIM; ++i)
+        {
+          c[i] /= 2;
+        }
+        const std::size_t parent = Flatten(c, coarse.Cells);
+        coarse.Low[parent] = std::min(coarse.Low[parent], fine.Low[cell]);
+        coarse.High[parent] = std::max(coarse.High[parent], fine.High[cell]);
+      }
+      this->Levels.push_back(std::move(coarse));
+    }
+  }
+
+  // The extremes of σ′ (with the margin) over the cells the ball's box
+  // touches, on the finest level whose cells are at least its diameter.
+  double ForBall(const Vec<DIM>& center, double radius) const override
+  {
+    std::size_t level = 0;
+    const double diameter = 2.0 * radius;
+    while (level + 1 < this->Levels.size() &&
+      (this->CellSize.minCoeff() * static_cast<double>(1 << level)) < diameter)
+    {
+      ++level;
+    }
+    const Level& at = this->Levels[level];
+    const Vec<DIM> size = this->CellSize * static_cast<double>(1 << level);
+    std::array<int, DIM> first, last;
+    for (int i = 0; i < DIM; ++i)
+    {
+      first[i] = this->Clamp((center[i] - radius - this->Min[i]) / size[i], at.Cells);
+      last[i] = this->Clamp((center[i] + radius - this->Min[i]) / size[i], at.Cells);
+    }
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -lo;
+    std::array<int, DIM> c = first;
+    for (;;)
+    {
+      const std::size_t cell = Flatten(c, at.Cells);
+      lo = std::min(lo, at.Low[cell]);
+      hi = std::max(hi, at.High[cell]);
+      int axis = 0;
+      while (axis < DIM && ++c[axis] > last[axis])
+      {
+        c[axis] = first[axis];
+        ++axis;
+      }
+      if (axis == DIM)
+      {
+        break;
+      }
+    }
+    return MajorantFromRange(lo, hi);
+  }
+
+  int LevelCount() const { return static_cast<int>(this->Levels.size()); }
+
+private:
+  struct Level
+  {
+    int Cells = 1;
+    std::vector<double> Low;
+    std::vector<double> High;
+  };
+
+  static std::size_t CellCount(int cells)
+  {
+    std::size_t n = 1;
+    for (int i = 0; i < DIM; ++i)
+    {
+      n *= static_cast<std::size_t>(cells);
+    }
+    return n;
+  }
+  static std::array<int, DIM> Unflatten(std::size_t index, int cells)
+  {
+    std::array<int, DIM> c;
+    for (int i = 0; i < DIM; ++i)
+    {
+      c[i] = static_cast<int>(index % static_cast<std::size_t>(cells));
+      index /= static_cast<std::size_t>(cells);
+    }
+    return c;
+  }
+  static std::size_t Flatten(const std::array<int, DIM>& c, int cells)
+  {
+    std::size_t index = 0, stride = 1;
+    for (int i = 0; i < DIM; ++i)
+    {
+      index += stride * static_cast<std::size_t>(c[i]);
+      stride *= static_cast<std::size_t>(cells);
+    }
+    return index;
+  }
+  // A cell index from a coordinate in cell units, inside [0, cells − 1]
+  // (balls that stick out of the box read its outermost cells).
+  static int Clamp(double t, int cells)
+  {
+    if (!(t > 0.0))
+    {
+      return 0;
+    }
+    return static_cast<int>(std::min(t, static_cast<double>(cells - 1)));
+  }
+
+  Vec<DIM> Min;
+  Vec<DIM> CellSize;
+  std::vector<Level> Levels;
+};
+// The coefficients of a problem with their majorant: what a Problem of the
+// varying equation holds (both shared, read-only, by every thread).
+template <int DIM>
+struct CoefficientModel
+{
+  std::shared_ptr<const CoefficientField<DIM>> Field;
+  std::shared_ptr<const ScreeningMajorant<DIM>> Majorant;
+};
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,319 @@
+// Walk on spheres with delta tracking for the equation with spatially
+// varying coefficients (VaryingCoefficients.h; Sawhney, Seyb, Jarosz and
+// Crane, SIGGRAPH 2022, Secs. 4–5):
+//
+//   ∇·(α∇u) − σu = f in Ω,  u = g on ∂Ω   ⇔   ΔU − σ′U = f′,  U = √α u.
+//
+// On a ball B(x, R) inside Ω, with a constant σ̄ ≥ 0 from the majorant
+// (ScreeningMajorant.h), U solves the screened equation ΔU − σ̄U = F with
+// F = f′ − (σ̄ − σ′)U, so by the screened mean-value identity (FORMULAS.md §3,
+// the walk's Eqn. 9 with the sign of §2)
+//
+//   U(x) = C·mean_∂B U − ∫_B G_σ̄ f′ + ∫_B G_σ̄ (σ̄ − σ′) U,
+//
+// with C = 1 − σ̄∫G_σ̄ the Yukawa boundary weight. The walk picks the sphere
+// with probability C (and moves to a uniform point on it), otherwise it
+// "collides" at y ~ G_σ̄/∫G_σ̄ and continues from y with its weight
+// multiplied by 1 − σ′(y)/σ̄ (1 for a null collision, σ′ = 0; 0 for an
+// absorption, σ′ = σ̄). Weights rather than analog absorption: killing walks
+// with probability σ′/σ̄ turned a smooth decay into all-or-nothing values,
+// several times the variance on absorbing tissue. Walks whose weight falls
+// below 0.1 play Russian roulette. Every step subtracts weight·∫G_σ̄·f′(y) at one y ~ G_σ̄ (the
+// collision's y when there is one). With σ̄ = 0 a step is a harmonic ball.
+// At the ε-shell the walk takes U = √α g at the closest point, and the
+// estimate is u(x0) = Û(x0)/√α(x0).
+//
+// Gradients: the first ball B0 = B(x0, R0), R0 = dist(x0, ∂Ω), is taken by
+// hand with the identity's gradient
+//
+//   ∇U(x0) = κ mean_∂B0[U ν] − ∫ ∇G_σ̄ f′ + ∫ ∇G_σ̄ (σ̄ − σ′) U,
+//
+// each term in an antithetic pair (x0 ± R0ν on the sphere, x0 ± d inside,
+// the second walk of a pair replaying the first one's random numbers), so
+// the constant part of U cancels exactly in the odd kernels and the
+// variance stays finite. The interior radius comes from FirstBallRadius.h
+// (it cancels the pole of ∇G); the two walks from x0 ± d run with
+// probability p = σ̄∫G_σ̄ (the collision probability) and count 1/p.
+// Then ∇u = (∇U − U ∇α/(2α))/√α, per sample, so the variance of the
+// reported gradient carries the covariance of U and ∇U.
+//
+// Dirichlet conditions only; interior problems (a walk that leaves the far
+// sphere counts as escaped and takes U = 0). Points within ε of the
+// boundary take u = g at the closest point and no gradient (NaN).
+#ifndef GRIDFREE_ESTIMATORS_VARYING_COEFFICIENT_WALK_H
+#define GRIDFREE_ESTIMATORS_VARYING_COEFFICIENT_WALK_H
+
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/coefficients/ScreeningMajorant.h>
+#include <gridfree/coefficients/VaryingCoefficients.h>
+#include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/estimators/WalkOnSpheres.h>
+#include <gridfree/greens/GreensFunctions.h>
+#include <gridfree/math/Vector.h>
+#include <gridfree/sampling/FirstBallRadius.h>
+#include <gridfree/sampling/Random.h>
+#include <gridfree/sampling/SphereSampling.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace gridfree
+{
+struct VaryingCoefficientSettings
+{
+  // A walk stops once dist(x, ∂Ω) < ε.
+  double Epsilon = 1e-4;
+  // Steps (collisions included) after which a walk is stopped and counted.
+  int MaxSteps = 100000;
+  // The far sphere: this many boundary diagonals from its centre.
+  double EscapeRadiusFactor = 8.0;
+  // Estimate ∇u beside u.
+  bool Gradient = false;
+};
+
+template <int DIM>
+class VaryingCoefficientEstimator
+{
+public:
+  VaryingCoefficientEstimator(const Boundary<DIM>& boundary, const CoefficientField<DIM>& field,
+    const ScreeningMajorant<DIM>& majorant, const VaryingCoefficientSettings& settings)
+    : Geometry(boundary)
+    , Field(field)
+    , Majorant(majorant)
+    , Settings(settings)
+    , HasSource(field.HasSource())
+    , Sample(OutputComponents(settings))
+  {
+    if (boundary.Components() != 1)
+    {
+      throw std::invalid_argument(
+        "varying coefficients: the boundary values must have one component");
+    }
+    if (!(settings.Epsilon > 0.0))
+    {
+      throw std::invalid_argument("varying coefficients: epsilon must be positive");
+    }
+    const double escape = settings.EscapeRadiusFactor *
+      std::max(boundary.Diagonal(), settings.Epsilon);
+    this->Escape2 = escape * escape;
+  }
+
+  static int OutputComponents(const VaryingCoefficientSettings& s)
+  {
+    return s.Gradient ? 1 + DIM : 1;
+  }
+  int OutputComponents() const { return OutputComponents(this->Settings); }
+
+  // Walks firstWalk .. firstWalk + walks − 1 at the probe point; each
+  // sample is u then (with Gradient) ∇u. Unavailable: no gradient there
+  // (within ε of the boundary, or a non-finite point).
+  template <class Statistics>
+  DerivativeStatus EstimatePoint(const double probeXYZ[3], std::uint64_t seed,
+    std::uint64_t firstWalk, int walks, Statistics& stats, WalkCounters& counters)
+  {
+    CoefficientSample<DIM> atStart;
+    DerivativeStatus status = DerivativeStatus::Unavailable;
+    RunPointWalks<DIM>(probeXYZ, seed, firstWalk, walks, this->Sample, stats, counters,
+      [&](const Vec<DIM>& x0, int w, RandomStream& rng, int& steps) {
+        if (w == 0)
+        {
+          this->Field.Evaluate(x0, atStart);
+          status = !this->Settings.Gradient || this->Geometry.Distance(x0) >= this->Settings.Epsilon
+            ? DerivativeStatus::Interior
+            : DerivativeStatus::Unavailable;
+        }
+        return this->Walk(x0, atStart, rng, this->Sample.data(), steps);
+      });
+    return status;
+  }
+
+  // One sample at x0 (coefficients `atStart` there) into `sample`.
+  WalkEnd Walk(const Vec<DIM>& x0, const CoefficientSample<DIM>& atStart, RandomStream& rng,
+    double* sample, int& steps)
+  {
+    steps = 0;
+    this->End = WalkEnd::Boundary;
+    const double sqrtAlpha = std::sqrt(atStart.Alpha);
+    if (!this->Settings.Gradient)
+    {
+      sample[0] = this->Continue(x0, rng, steps) / sqrtAlpha;
+      return this->End;
+    }
+    const double r0 = this->Geometry.Distance(x0);
+    if (!(r0 >= this->Settings.Epsilon))
+    {
+      // In the ε-shell: u = g, no ball for a gradient.
+      sample[0] = this->Continue(x0, rng, steps) / sqrtAlpha;
+      std::fill(sample + 1, sample + 1 + DIM, std::numeric_limits<double>::quiet_NaN());
+      return this->End;
+    }
+    double value = 0.0;
+    Vec<DIM> gradient = Vec<DIM>::Zero();
+    this->FirstBall(x0, r0, rng, steps, value, gradient);
+    sample[0] = value / sqrtAlpha;
+    const Vec<DIM> g = (gradient - value * atStart.AlphaGradient / (2.0 * atStart.Alpha)) / sqrtAlpha;
+    for (int i = 0; i < DIM; ++i)
+    {
+      sample[1 + i] = g[i];
+    }
+    return this->End;
+  }
+
+private:
+  // The first ball's identity and its gradient, each term antithetic.
+  void FirstBall(
+    const Vec<DIM>& x0, double r0, RandomStream& rng, int& steps, double& value, Vec<DIM>& gradient)
+  {
+    const double sbar = this->Majorant.ForBall(x0, r0);
+    double weightC = 1.0, kappa = DIM / r0;
+    const bool screened = sbar > 0.0;
+    YukawaGreensFunction<DIM> yukawa(r0, screened ? sbar : 1.0);
+    HarmonicGreensFunction<DIM> harmonic(r0);
+    if (screened)
+    {
+      weightC = yukawa.BoundaryWeight();
+      kappa = yukawa.GradientWeight();
+    }
+
+    const Vec<DIM> nu = SampleUnitSphere<DIM>(rng);
+    RandomStream replay = rng;
+    const double plus = this->Continue(x0 + r0 * nu, rng, steps);
+    const double minus = this->Continue(x0 - r0 * nu, replay, steps);
+    value = weightC * 0.5 * (plus + minus);
+    gradient = kappa * 0.5 * (plus - minus) * nu;
+
+    if (!screened && !this->HasSource)
+    {
+      return;
+    }
+    const double z = screened ? std::sqrt(sbar) * r0 : 0.0;
+    const double r = FirstBallRadius<DIM>::Sample(r0, z, rng);
+    const Vec<DIM> omega = SampleUnitSphere<DIM>(rng);
+    const double q = FirstBallRadius<DIM>::Weight(r, r0, z);
+    const double g = screened ? yukawa.Value(r) : harmonic.Value(r);
+    const double dg = screened ? yukawa.GradientMagnitude(r) : harmonic.GradientMagnitude(r);
+    const Vec<DIM> yPlus = x0 + r * omega, yMinus = x0 - r * omega;
+    CoefficientSample<DIM> cPlus, cMinus;
+    this->Field.Evaluate(yPlus, cPlus);
+    this->Field.Evaluate(yMinus, cMinus);
+    const TransformedCoefficients tPlus = Transform(cPlus), tMinus = Transform(cMinus);
+    if (this->HasSource)
+    {
+      value -= q * g * 0.5 * (tPlus.Source + tMinus.Source);
+      gradient -= q * dg * 0.5 * (tPlus.Source - tMinus.Source) * omega;
+    }
+    if (!screened)
+    {
+      return;
+    }
+    const double p = std::min(1.0, std::max(sbar * yukawa.Integral(), 1e-6));
+    if (rng.NextDouble() >= p)
+    {
+      return;
+    }
+    RandomStream replayInside = rng;
+    const double aPlus = (sbar - tPlus.Screening) * this->Continue(yPlus, rng, steps);
+    const double aMinus = (sbar - tMinus.Screening) * this->Continue(yMinus, replayInside, steps);
+    value += q * g * 0.5 * (aPlus + aMinus) / p;
+    gradient += q * dg * 0.5 * (aPlus - aMinus) / p * omega;
+  }
+
+  // Û(x): a walk with delta tracking from x, adding its steps to `steps`.
+  double Continue(Vec<DIM> x, RandomStream& rng, int& steps)
+  {
+    const VaryingCoefficientSettings& s = this->Settings;
+    const Vec<DIM> center = this->Geometry.Center();
+    double accumulated = 0.0;
+    double weight = 1.0;
+    typename Boundary<DIM>::StepHint hint;
+    CoefficientSample<DIM> c;
+    for (int own = 0;; ++own, ++steps)
+    {
+      const double fromCenter2 = (x - center).squaredNorm();
+      if (fromCenter2 > this->Escape2 || !std::isfinite(fromCenter2))
+      {
+        this->Note(WalkEnd::Escaped);
+        return accumulated;
+      }
+      const double radius = this->Geometry.StepRadius(x, s.Epsilon, &hint);
+      if (!(radius >= s.Epsilon))
+      {
+        break;
+      }
+      if (own >= s.MaxSteps)
+      {
+        this->Note(WalkEnd::MaxSteps);
+        break;
+      }
+      const double sbar = this->Majorant.ForBall(x, radius);
+      if (sbar > 0.0)
+      {
+        const YukawaGreensFunction<DIM> green(radius, sbar);
+        const bool collide = rng.NextDouble() >= green.BoundaryWeight();
+        if (collide || this->HasSource)
+        {
+          const Vec<DIM> y = x + green.SampleOffset(rng);
+          this->Field.Evaluate(y, c);
+          const TransformedCoefficients t = Transform(c);
+          accumulated -= weight * green.Integral() * t.Source;
+          if (collide)
+          {
+            weight *= 1.0 - t.Screening / sbar;
+            // Russian roulette on small weights (unbiased: survivors are
+            // raised back to the threshold).
+            if (std::abs(weight) < kRouletteWeight)
+            {
+              if (rng.NextDouble() * kRouletteWeight >= std::abs(weight))
+              {
+                return accumulated;
+              }
+              weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
+            }
+            x = y;
+            continue;
+          }
+        }
+      }
+      else if (this->HasSource)
+      {
+        const HarmonicGreensFunction<DIM> green(radius);
+        this->Field.Evaluate(x + green.SampleOffset(rng), c);
+        accumulated -= weight * green.Integral() * Transform(c).Source;
+      }
+      x += radius * SampleUnitSphere<DIM>(rng);
+    }
+    const ClosestPointResult<DIM> hit = this->Geometry.ClosestPoint(x, hint);
+    double g = 0.0;
+    this->Geometry.Evaluate(x, hit, &g);
+    this->Field.Evaluate(hit.point, c);
+    return accumulated + weight * std::sqrt(c.Alpha) * g;
+  }
+
+  // Keeps the most telling way a sample's walks ended.
+  void Note(WalkEnd end)
+  {
+    if (this->End == WalkEnd::Boundary || end == WalkEnd::MaxSteps)
+    {
+      this->End = end;
+    }
+  }
+
+  // Walks whose weight falls below this play Russian roulette.
+  static constexpr double kRouletteWeight = 0.1;
+
+  const Boundary<DIM>& Geometry;
+  const CoefficientField<DIM>& Field;
+  const ScreeningMajorant<DIM>& Majorant;
+  VaryingCoefficientSettings Settings;
+  bool HasSource;
+  double Escape2 = 0.0;
+  WalkEnd End = WalkEnd::Boundary;
+  std::vector<double> Sample;
+};
+} // namespace gridfree
+
+#endif

@@ -1,0 +1,122 @@
+"""Benchmark (not part of the tests): the steady Pennes bioheat equation on
+the CT head, ∇·(k∇T) − w(T − T_a) + Q = 0, with the skin at 34 °C and the
+arterial blood at 37 °C, solved on the CT workflow's slice
+(Documentation/Examples/ct_workflow.py) to a target standard error at every
+point inside the head, gradient on:
+
+- varying coefficients: k, w and Q per voxel from a tissue table of the CT
+  values (bioheat_tissues.py), smoothed by a Gaussian and the cubic B-spline;
+- constant coefficients: the same equation with the brain's k, w and Q
+  everywhere, solved as the screened Poisson equation (the walk the varying
+  one is measured against: same boundary, slice, target and seed).
+
+    pvbatch ct_bioheat.py [--target 0.05] [--most 2048] [--smoothing 2.0]
+
+Prints one row per solve (points inside the head, seconds, walks, steps per
+walk, walks per second, RMS and largest standard error) and the ratio of
+the costs at equal error, seconds × mean variance (time to an error scales
+as the variance; screened walks rarely stop at the target, because their
+uneven weights leave error bars the target mode does not trust, so most
+points run to --most). Lengths
+are millimetres, so k stays in W/(m K) and w, Q are scaled by 1e-6
+(bioheat_tissues.py)."""
+import argparse
+import math
+import os
+import sys
+
+import paraview.simple as pvs
+from paraview import servermanager
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "Documentation", "Examples"))
+import bioheat_tissues  # noqa: E402
+import ct_workflow  # noqa: E402
+
+parser = argparse.ArgumentParser()
+parser.add_argument("--target", type=float, default=0.05, help="standard error (°C)")
+parser.add_argument("--most", type=int, default=2048, help="the most walks per point")
+parser.add_argument("--smoothing", type=float, default=2.0, help="Gaussian width (mm)")
+parser.add_argument("--seed", type=int, default=1)
+args = parser.parse_args()
+
+volume = os.path.join(ct_workflow.data_folder(), "headsq_headCT.mhd")
+p = ct_workflow.build_pipeline(volume, walks=16)
+ct_array = p["volume"].PointData.keys()[0]
+pvs.Delete(p["solver"])
+
+# The probe: the slice's points inside the head (the equation holds there;
+# the tissue image says nothing about the air around the head).
+inside = pvs.Threshold(Input=p["slice"], Scalars=["POINTS", ct_array],
+                       LowerThreshold=ct_workflow.SKIN_ISO_VALUE, UpperThreshold=1e9,
+                       AllScalars=1)
+inside.UpdatePipeline()
+skin = pvs.Calculator(Input=p["skin"], ResultArrayName="U",
+                      Function="%g" % (bioheat_tissues.SKIN_TEMPERATURE
+                                       - bioheat_tissues.ARTERIAL_TEMPERATURE))
+tissues = bioheat_tissues.tissue_arrays(p["padded"], ct_array)
+skin.UpdatePipeline()
+tissues.UpdatePipeline()
+
+
+def solver_of(equation):
+    s = pvs.WalkOnSpheresSolver(Boundary=skin, Probe=inside)
+    s.BoundaryValues = ["POINTS", "U"]
+    s.ComputeGradient = 1
+    s.WalksPerPoint = args.most
+    s.TargetStandardError = args.target
+    s.KeepRunningSums = 0
+    s.Seed = args.seed
+    if equation == "varying":
+        s.Source = tissues
+        s.Equation = "Varying Coefficients"
+        s.DiffusionFromArray = 1
+        s.DiffusionCoefficientArray = ["POINTS", "Conductivity"]
+        s.AbsorptionFromArray = 1
+        s.AbsorptionCoefficientArray = ["POINTS", "Perfusion"]
+        s.SourceTermFromArray = 1
+        s.SourceArray = ["POINTS", "Heat"]
+        s.CoefficientSmoothing = args.smoothing
+    else:
+        brain = bioheat_tissues.TISSUES["brain"]
+        alpha, sigma, f = bioheat_tissues.coefficients_per_mm(brain)
+        s.Equation = "Screened Poisson"
+        s.ScreeningCoefficient = sigma / alpha
+        s.SourceExpression = "%.10g" % (f / alpha)
+    return s
+
+
+def row(name, s):
+    s.UpdatePipeline()
+    data = servermanager.Fetch(s)
+    ct = data.GetPointData().GetArray(ct_array)
+    variance = data.GetPointData().GetArray("U_Variance")
+    errors = [math.sqrt(variance.GetTuple1(i)) for i in range(data.GetNumberOfPoints())
+              if ct.GetTuple1(i) >= ct_workflow.SKIN_ISO_VALUE]
+    mean_variance = math.fsum(e * e for e in errors) / len(errors)
+    field = data.GetFieldData()
+    seconds = field.GetArray("SolveSeconds").GetTuple1(0)
+    walks = field.GetArray("TotalWalks").GetTuple1(0)
+    steps = field.GetArray("MeanStepsPerWalk").GetTuple1(0)
+    print("| %s | %d | %.2f | %.3g | %.1f | %.0f | %.3f | %.3f |" % (
+        name, len(errors), seconds, walks, steps, walks / seconds, math.sqrt(mean_variance),
+        max(errors)), flush=True)
+    # Time to a given error scales as seconds × variance: the cost at equal error.
+    return seconds * mean_variance
+
+
+print("| solve | points inside | seconds | walks | steps per walk | walks per second | "
+      "RMS standard error (°C) | largest standard error (°C) |")
+print("|---|---:|---:|---:|---:|---:|---:|---:|")
+# The boundary's hierarchy is built by a first, small update of each.
+for equation in ("constant", "varying"):
+    warm = solver_of(equation)
+    warm.TargetStandardError = 0.0
+    warm.WalksPerPoint = 1
+    warm.UpdatePipeline()
+    pvs.Delete(warm)
+constant = row("constant coefficients (brain's k, w, Q)", solver_of("constant"))
+varying = row("varying coefficients (tissue table, %.1f mm)" % args.smoothing,
+              solver_of("varying"))
+print("\ncost at equal error (seconds × mean variance): varying coefficients %.2f times the "
+      "constant-coefficient walk" % (varying / constant))

@@ -1,0 +1,110 @@
+// Tests of gridfree/coefficients/ScreeningMajorant.h: the bound grid's σ̄
+// for a ball bounds σ′ from above and 2|σ′| where σ′ < 0 at points sampled
+// densely in the ball, for balls of every size; it is tight where the
+// coefficients are flat (far below the global bound away from a steep
+// step) and exactly 0 where σ′ vanishes; bad boxes and non-finite
+// coefficients are refused.
+#include <gridfree/coefficients/ScreeningMajorant.h>
+#include "EstimatorChecks.h"
+#include "ManufacturedCoefficients.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <stdexcept>
+
+using namespace gridfree;
+using namespace gridfree::testing;
+
+namespace
+{
+ManufacturedCase<2> SteepStep()
+{
+  ManufacturedCase<2> with;
+  with.U = SineSolution<2>();
+  with.Alpha = SmoothStep<2>(5.5, 4.5, 0.0, 0.05);
+  with.Sigma = [](const Vec<2>& x) { return 1.0 + x[1] * x[1]; };
+  return with;
+}
+} // namespace
+
+TEST(ScreeningMajorant, BoundsEveryBallOfTheGrid)
+{
+  const ManufacturedField<2> field(SteepStep());
+  const ScreeningBoundGrid<2> grid(field, Vec<2>(-1, -1), Vec<2>(1, 1), {});
+  EXPECT_EQ(grid.LevelCount(), 6); // 32, 16, 8, 4, 2, 1 cells per axis
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int checked = 0;
+  for (double radius : { 0.003, 0.02, 0.1, 0.4, 1.0 })
+  {
+    for (int b = 0; b < 40; ++b)
+    {
+      const Vec<2> center(unit(rng), unit(rng));
+      const double bound = grid.ForBall(center, radius);
+      for (const Vec<2>& d : RandomPointsInBall<2>(200, radius, 100 + b))
+      {
+        const Vec<2> y = center + d;
+        if (y.cwiseAbs().maxCoeff() > 1.0)
+        {
+          continue;
+        }
+        CoefficientSample<2> c;
+        field.Evaluate(y, c);
+        const double s = Transform(c).Screening;
+        EXPECT_GE(bound, s);
+        EXPECT_GE(bound, -2.0 * s);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20000);
+}
+
+TEST(ScreeningMajorant, TightAwayFromTheStep)
+{
+  const ManufacturedField<2> field(SteepStep());
+  const ScreeningBoundGrid<2> grid(field, Vec<2>(-1, -1), Vec<2>(1, 1), {});
+  const double global = grid.ForBall(Vec<2>(0, 0), 2.0);
+  // Far from x = 0, α ≈ 10 is flat and σ′ ≈ σ/10 ≤ 0.2.
+  const double flat = grid.ForBall(Vec<2>(0.8, 0.0), 0.1);
+  EXPECT_LT(flat, 0.3);
+  EXPECT_GT(global, 100.0 * flat);
+}
+
+TEST(ScreeningMajorant, ZeroWhereNothingScreens)
+{
+  const CallableCoefficients<3> field(
+    [](const Vec<3>&, CoefficientSample<3>& out) { out.Alpha = 3.0; });
+  const ScreeningBoundGrid<3> grid(field, Vec<3>(0, 0, 0), Vec<3>(1, 2, 3), {});
+  EXPECT_EQ(grid.ForBall(Vec<3>(0.5, 1.0, 1.5), 0.2), 0.0);
+  EXPECT_EQ(ConstantScreeningMajorant<3>(2.5).ForBall(Vec<3>(0, 0, 0), 1.0), 2.5);
+}
+
+TEST(ScreeningMajorant, RefusesBadInput)
+{
+  const CallableCoefficients<2> field(
+    [](const Vec<2>& x, CoefficientSample<2>& out) { out.Alpha = x[0] > 0.5 ? -1.0 : 1.0; });
+  EXPECT_THROW(ScreeningBoundGrid<2>(field, Vec<2>(0, 0), Vec<2>(1, 1), {}), std::invalid_argument);
+  const ManufacturedField<2> fine(SteepStep());
+  EXPECT_THROW(ScreeningBoundGrid<2>(fine, Vec<2>(0, 0), Vec<2>(1, 0), {}), std::invalid_argument);
+  EXPECT_THROW(ConstantScreeningMajorant<2>(-1.0), std::invalid_argument);
+}
+
+// The message names the coefficient and the place.
+TEST(ScreeningMajorant, NamesTheUnusableCoefficient)
+{
+  const CallableCoefficients<3> field(
+    [](const Vec<3>& x, CoefficientSample<3>& out) { out.Absorption = x[2] > 0.75 ? -2.0 : 0.0; });
+  try
+  {
+    ScreeningBoundGrid<3>(field, Vec<3>(0, 0, 0), Vec<3>(1, 1, 1), {});
+    FAIL() << "no exception";
+  }
+  catch (const std::invalid_argument& e)
+  {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("sigma must be finite and >= 0"), std::string::npos) << message;
+    EXPECT_NE(message.find("at (0, 0, 0.760417)"), std::string::npos) << message;
+  }
+}

@@ -1,0 +1,192 @@
+"""The equation with varying coefficients, div(alpha grad u) - sigma u = f,
+through the solver's VTK API: alpha, sigma and f as arrays of an image on
+the Source port (Gaussian smoothing and the cubic B-spline), values and
+gradients against a manufactured solution (|z| < 5, mean z^2 near 1), the
+constants without an image, and every bad input's message."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import gridfree  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData  # noqa: E402
+
+from gridfree_testing import (  # noqa: E402
+    MessageCatcher,
+    filled_array,
+    point_cloud,
+    sphere_boundary,
+    z_scores,
+)
+
+POINTS = vtkDataObject.FIELD_ASSOCIATION_POINTS
+
+
+# u = x^2 - y^2 + z + 1/2 (harmonic), alpha = 2 + x/2, sigma = 1:
+# f = alpha Lap(u) + grad(alpha).grad(u) - sigma u = x - u. The cubic
+# B-spline reproduces the linear alpha, and for this quadratic f its
+# approximation error h^2/6 (f_xx + f_yy + f_zz) vanishes; a Gaussian keeps
+# both far from the image's edges. So the smoothed problem is this one.
+def exact(x, y, z):
+    return x * x - y * y + z + 0.5
+
+
+def exact_gradient(x, y, z):
+    return (2.0 * x, -2.0 * y, 1.0)
+
+
+def alpha(x, y, z):
+    return 2.0 + 0.5 * x
+
+
+def source(x, y, z):
+    return x - exact(x, y, z)
+
+
+def coefficient_image(reach=1.5, spacing=0.05, alpha_of=alpha):
+    n = int(round(2 * reach / spacing)) + 1
+    image = vtkImageData()
+    image.SetOrigin(-reach, -reach, -reach)
+    image.SetSpacing(spacing, spacing, spacing)
+    image.SetDimensions(n, n, n)
+    count = image.GetNumberOfPoints()
+    arrays = {
+        "Conductivity": filled_array("Conductivity", count, 0.0),
+        "Perfusion": filled_array("Perfusion", count, 1.0),
+        "Heat": filled_array("Heat", count, 0.0),
+    }
+    for i in range(count):
+        x, y, z = image.GetPoint(i)
+        arrays["Conductivity"].SetValue(i, alpha_of(x, y, z))
+        arrays["Heat"].SetValue(i, source(x, y, z))
+    for array in arrays.values():
+        image.GetPointData().AddArray(array)
+    return image
+
+
+def ball_points(count=150, radius=0.8):
+    golden = math.pi * (3.0 - math.sqrt(5.0))
+    points = []
+    for i in range(count):
+        r = radius * ((i + 0.5) / count) ** (1.0 / 3.0)
+        z = 1.0 - 2.0 * ((i * 0.618033988749895) % 1.0)
+        rho = math.sqrt(max(0.0, 1.0 - z * z))
+        points.append((r * rho * math.cos(i * golden), r * rho * math.sin(i * golden), r * z))
+    return point_cloud(points)
+
+
+def varying_solver(image=None, walks=512):
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(sphere_boundary(exact))
+    solver.SetProbeData(ball_points())
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetEquationToVaryingCoefficients()
+    solver.SetWalksPerPoint(walks)
+    solver.SetSeed(11)
+    if image is not None:
+        solver.SetSourceData(image)
+        solver.SetInputArrayToProcess(7, 2, 0, POINTS, "Conductivity")
+        solver.SetInputArrayToProcess(8, 2, 0, POINTS, "Perfusion")
+        solver.SetInputArrayToProcess(2, 2, 0, POINTS, "Heat")
+    return solver
+
+
+def assert_calibrated(scores):
+    assert max(abs(z) for z in scores) < 5.0, max(abs(z) for z in scores)
+    mean_z2 = sum(z * z for z in scores) / len(scores)
+    assert 0.7 < mean_z2 < 1.4, mean_z2
+
+
+def gradient_z_scores(output):
+    data = output.GetPointData()
+    gradient = data.GetArray("T_Gradient")
+    variance = data.GetArray("T_Gradient_Variance")
+    scores = []
+    for i in range(output.GetNumberOfPoints()):
+        g = exact_gradient(*output.GetPoint(i))
+        for k in range(3):
+            scores.append((gradient.GetComponent(i, k) - g[k]) / math.sqrt(variance.GetComponent(i, k)))
+    return scores
+
+
+def test_coefficients_from_an_image_values_and_gradients():
+    solver = varying_solver(coefficient_image())
+    solver.SetCoefficientSmoothing(0.05)
+    solver.SetComputeGradient(True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    output = solver.GetOutput()
+    assert_calibrated(z_scores(output, exact))
+    assert_calibrated(gradient_z_scores(output))
+    # A second update with a moved probe keeps the coefficients (no error,
+    # same numbers at the same points).
+    first = [output.GetPointData().GetArray("T").GetValue(i) for i in range(5)]
+    solver.Modified()
+    solver.Update()
+    again = [solver.GetOutput().GetPointData().GetArray("T").GetValue(i) for i in range(5)]
+    assert first == again
+
+
+def test_constant_coefficients_without_an_image():
+    # alpha = 3, sigma = 0, f = 0: the harmonic u solves it.
+    solver = varying_solver()
+    solver.SetDiffusionCoefficient(3.0)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors, catcher.error_text()
+    assert_calibrated(z_scores(solver.GetOutput(), exact))
+
+
+def error_of(solver):
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert catcher.errors, "no error"
+    return catcher.error_text()
+
+
+def test_bad_inputs_are_named():
+    # A voxel with alpha = 0: the array and the voxel are named.
+    image = coefficient_image(alpha_of=lambda x, y, z: 0.0 if x > 1.4 and y > 1.4 and z > 1.4 else 2.0)
+    text = error_of(varying_solver(image))
+    assert "array 'Conductivity' must be positive" in text and "voxel (" in text, text
+
+    # An image that does not reach the boundary.
+    text = error_of(varying_solver(coefficient_image(reach=0.8, spacing=0.1)))
+    assert "does not cover the boundary" in text, text
+
+    # NaN in the absorption.
+    image = coefficient_image(spacing=0.1)
+    image.GetPointData().GetArray("Perfusion").SetValue(7, float("nan"))
+    text = error_of(varying_solver(image))
+    assert "array 'Perfusion' must be finite and >= 0" in text, text
+
+    # What the walk does not give.
+    solver = varying_solver(coefficient_image(spacing=0.1))
+    solver.SetComputeHessian(True)
+    assert "not available with the Hessian" in error_of(solver)
+    solver = varying_solver(coefficient_image(spacing=0.1))
+    solver.SetEstimator(2)
+    assert "not available with a solution cache" in error_of(solver)
+
+    # Coefficients on something that is not an image.
+    solver = varying_solver()
+    solver.SetSourceData(ball_points())
+    ball = solver.GetInputDataObject(2, 0)
+    ball.GetPointData().AddArray(filled_array("Conductivity", ball.GetNumberOfPoints(), 1.0))
+    solver.SetInputArrayToProcess(7, 2, 0, POINTS, "Conductivity")
+    assert "must lie on a vtkImageData" in error_of(solver)
+
+    # A constant that cannot be used.
+    solver = varying_solver()
+    solver.SetDiffusionCoefficient(-1.0)
+    assert "DiffusionCoefficient must be positive" in error_of(solver)
+    solver = varying_solver()
+    solver.SetAbsorptionCoefficient(-0.5)
+    assert "AbsorptionCoefficient must be finite and >= 0" in error_of(solver)
+
+    # An array chosen with nothing on the Source port.
+    solver = varying_solver()
+    solver.SetInputArrayToProcess(7, 2, 0, POINTS, "Conductivity")
+    assert "nothing is connected to the Source port" in error_of(solver)
