@@ -179,93 +179,110 @@ public:
 
   void Evaluate(const Vec<DIM>& x, CoefficientSample<DIM>& out) const override
   {
-    // Per axis: the first of the four voxels and the B-spline's weights
-    // with their first and second derivatives (per world unit).
-    std::array<int, 3> first{};
+    // Per axis: the four voxels (clamped to the image) and the B-spline's
+    // weights with their first and second derivatives (per world unit); an
+    // axis the problem lacks, or with one voxel, has one tap of weight 1.
+    std::array<std::array<std::size_t, 4>, 3> voxel{};
     std::array<std::array<double, 4>, 3> w{}, dw{}, ddw{};
+    std::array<int, 3> taps{};
     for (int axis = 0; axis < 3; ++axis)
     {
       const int n = this->Grid.Dims[axis];
       if (axis >= DIM || n < 2)
       {
-        first[axis] = 0;
-        w[axis] = { 1.0, 0.0, 0.0, 0.0 };
-        dw[axis] = { 0.0, 0.0, 0.0, 0.0 };
-        ddw[axis] = { 0.0, 0.0, 0.0, 0.0 };
+        taps[axis] = 1;
+        voxel[axis][0] = 0;
+        w[axis][0] = 1.0;
         continue;
       }
+      taps[axis] = 4;
       const double h = this->Grid.Spacing[axis];
       const double t = (x[axis] - this->Grid.Origin[axis]) / h;
       const double cell = std::floor(t);
-      const double u = t - cell;
-      first[axis] = static_cast<int>(cell) - 1;
-      Weights(u, w[axis], dw[axis], ddw[axis]);
+      Weights(t - cell, w[axis], dw[axis], ddw[axis]);
+      const int first = static_cast<int>(cell) - 1;
       for (int k = 0; k < 4; ++k)
       {
+        voxel[axis][k] = this->Clamped(first + k, axis);
         dw[axis][k] /= h;
         ddw[axis][k] /= h * h;
       }
     }
-    out.Alpha = 0.0;
     out.AlphaGradient.setZero();
     out.AlphaLaplacian = 0.0;
-    out.Absorption = this->Constant[1] ? this->ConstantValue[1] : 0.0;
-    out.Source = this->Constant[2] ? this->ConstantValue[2] : 0.0;
-    if (this->Constant[0])
+    // The tensor-product sums one axis at a time: along x for each (y, z)
+    // row, then along y, then along z. For α: the value and the first and
+    // second derivative along each axis (the Laplacian is their trace).
+    // Grouped this way a point costs about 250 multiply-adds instead of 64
+    // taps times every product of weights.
+    double alpha = 0.0, dx = 0.0, dy = 0.0, dz = 0.0, dxx = 0.0, dyy = 0.0, dzz = 0.0;
+    double sigma = 0.0, source = 0.0;
+    const std::size_t nx = static_cast<std::size_t>(this->Grid.Dims[0]);
+    const std::size_t ny = static_cast<std::size_t>(this->Grid.Dims[1]);
+    const bool varyingAlpha = !this->Constant[0];
+    const bool varyingSigma = !this->Constant[1];
+    const bool varyingSource = !this->Constant[2];
+    for (int c = 0; c < taps[2]; ++c)
+    {
+      // Along y for this z: value, ∂x, ∂y, ∂xx, ∂yy of α; values of σ, f.
+      double a0 = 0.0, ax = 0.0, ay = 0.0, axx = 0.0, ayy = 0.0, s0 = 0.0, f0 = 0.0;
+      for (int b = 0; b < taps[1]; ++b)
+      {
+        const std::size_t row = nx * (voxel[1][b] + ny * voxel[2][c]);
+        double r0 = 0.0, r1 = 0.0, r2 = 0.0, rs = 0.0, rf = 0.0;
+        for (int a = 0; a < taps[0]; ++a)
+        {
+          const std::size_t index = row + voxel[0][a];
+          if (varyingAlpha)
+          {
+            const double v = this->Values[0][index];
+            r0 += w[0][a] * v;
+            r1 += dw[0][a] * v;
+            r2 += ddw[0][a] * v;
+          }
+          if (varyingSigma)
+          {
+            rs += w[0][a] * this->Values[1][index];
+          }
+          if (varyingSource)
+          {
+            rf += w[0][a] * this->Values[2][index];
+          }
+        }
+        a0 += w[1][b] * r0;
+        ax += w[1][b] * r1;
+        ay += dw[1][b] * r0;
+        axx += w[1][b] * r2;
+        ayy += ddw[1][b] * r0;
+        s0 += w[1][b] * rs;
+        f0 += w[1][b] * rf;
+      }
+      alpha += w[2][c] * a0;
+      dx += w[2][c] * ax;
+      dy += w[2][c] * ay;
+      dz += dw[2][c] * a0;
+      dxx += w[2][c] * axx;
+      dyy += w[2][c] * ayy;
+      dzz += ddw[2][c] * a0;
+      sigma += w[2][c] * s0;
+      source += w[2][c] * f0;
+    }
+    if (varyingAlpha)
+    {
+      out.Alpha = alpha;
+      const double gradient[3] = { dx, dy, dz };
+      for (int i = 0; i < DIM; ++i)
+      {
+        out.AlphaGradient[i] = gradient[i];
+      }
+      out.AlphaLaplacian = dxx + (DIM > 1 ? dyy : 0.0) + (DIM > 2 ? dzz : 0.0);
+    }
+    else
     {
       out.Alpha = this->ConstantValue[0];
     }
-    const int taps[3] = { DIM > 0 && this->Grid.Dims[0] > 1 ? 4 : 1,
-      DIM > 1 && this->Grid.Dims[1] > 1 ? 4 : 1, DIM > 2 && this->Grid.Dims[2] > 1 ? 4 : 1 };
-    for (int c = 0; c < taps[2]; ++c)
-    {
-      const std::size_t z = this->Clamped(first[2] + c, 2);
-      for (int b = 0; b < taps[1]; ++b)
-      {
-        const std::size_t y = this->Clamped(first[1] + b, 1);
-        const double wyz = w[1][b] * w[2][c];
-        for (int a = 0; a < taps[0]; ++a)
-        {
-          const std::size_t index =
-            this->Clamped(first[0] + a, 0) +
-            static_cast<std::size_t>(this->Grid.Dims[0]) *
-              (y + static_cast<std::size_t>(this->Grid.Dims[1]) * z);
-          const double weight = w[0][a] * wyz;
-          if (!this->Constant[0])
-          {
-            const double v = this->Values[0][index];
-            out.Alpha += weight * v;
-            out.AlphaGradient[0] += dw[0][a] * wyz * v;
-            if (DIM > 1)
-            {
-              out.AlphaGradient[1] += w[0][a] * dw[1][b] * w[2][c] * v;
-            }
-            if (DIM > 2)
-            {
-              out.AlphaGradient[DIM - 1] += w[0][a] * w[1][b] * dw[2][c] * v;
-            }
-            double laplacian = ddw[0][a] * wyz;
-            if (DIM > 1)
-            {
-              laplacian += w[0][a] * ddw[1][b] * w[2][c];
-            }
-            if (DIM > 2)
-            {
-              laplacian += w[0][a] * w[1][b] * ddw[2][c];
-            }
-            out.AlphaLaplacian += laplacian * v;
-          }
-          if (!this->Constant[1])
-          {
-            out.Absorption += weight * this->Values[1][index];
-          }
-          if (!this->Constant[2])
-          {
-            out.Source += weight * this->Values[2][index];
-          }
-        }
-      }
-    }
+    out.Absorption = varyingSigma ? sigma : this->ConstantValue[1];
+    out.Source = varyingSource ? source : this->ConstantValue[2];
   }
 
 private:

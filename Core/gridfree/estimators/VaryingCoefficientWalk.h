@@ -231,6 +231,11 @@ private:
     double weight = 1.0;
     typename Boundary<DIM>::StepHint hint;
     CoefficientSample<DIM> c;
+    // After a collision at y in B(x, R), B(y, R − |y − x|) lies inside the
+    // domain too: the next step may use it without a closest-point query
+    // when it is not much smaller (queries were most of a walk's time on
+    // the CT head, and collisions most of its steps).
+    double knownClear = 0.0;
     for (int own = 0;; ++own, ++steps)
     {
       const double fromCenter2 = (x - center).squaredNorm();
@@ -239,7 +244,9 @@ private:
         this->Note(WalkEnd::Escaped);
         return accumulated;
       }
-      const double radius = this->Geometry.StepRadius(x, s.Epsilon, &hint);
+      const double radius =
+        knownClear > 0.0 ? knownClear : this->Geometry.StepRadius(x, s.Epsilon, &hint);
+      knownClear = 0.0;
       if (!(radius >= s.Epsilon))
       {
         break;
@@ -256,7 +263,8 @@ private:
         const bool collide = rng.NextDouble() >= green.BoundaryWeight();
         if (collide || this->HasSource)
         {
-          const Vec<DIM> y = x + green.SampleOffset(rng);
+          const Vec<DIM> offset = green.SampleOffset(rng);
+          const Vec<DIM> y = x + offset;
           this->Field.Evaluate(y, c);
           const TransformedCoefficients t = Transform(c);
           accumulated -= weight * green.Integral() * t.Source;
@@ -272,6 +280,11 @@ private:
                 return accumulated;
               }
               weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
+            }
+            const double clear = radius - offset.norm();
+            if (clear >= kReuseFraction * radius && clear >= s.Epsilon)
+            {
+              knownClear = clear;
             }
             x = y;
             continue;
@@ -304,6 +317,9 @@ private:
 
   // Walks whose weight falls below this play Russian roulette.
   static constexpr double kRouletteWeight = 0.1;
+  // A collision's ball B(y, R − |y − x|) is used without a query when it is
+  // at least this fraction of R.
+  static constexpr double kReuseFraction = 0.5;
 
   const Boundary<DIM>& Geometry;
   const CoefficientField<DIM>& Field;

@@ -116,13 +116,13 @@ void Report(const char* name, const VaryingResult& r)
 }
 
 // Values and gradients at every point within 5 standard errors, mean z² in
-// [0.7, 1.4], 256 walks per point.
+// [0.7, 1.4], 256 walks per point unless told.
 template <int DIM>
 void ExpectVaryingCalibrated(const char* name, const SimplexMesh<DIM>& mesh,
   const ManufacturedCase<DIM>& with, const CoefficientField<DIM>& field,
-  const std::vector<Vec<DIM>>& points)
+  const std::vector<Vec<DIM>>& points, int walks = 256)
 {
-  const VaryingResult r = CalibrateVarying<DIM>(mesh, with, field, points, 256);
+  const VaryingResult r = CalibrateVarying<DIM>(mesh, with, field, points, walks);
   Report(name, r);
   const int n = static_cast<int>(points.size());
   ExpectCalibrated(r.Value, n);
@@ -227,13 +227,18 @@ private:
   SmoothFunction<3> U;
 };
 
+// The interface is steep (α 0.2 to 0.5 over about 0.1): σ′ has deep
+// negative lobes there, where collision weights exceed 1 and their products
+// give the values a heavy tail. At 256 walks the error bars of a few points
+// come out too small (mean z² 1.7 with one seed, 1.0 with another); at 1,024
+// they are right (1.1, and 0.9 at 4,096, with no trend: no bias).
 TEST(VaryingCoefficientWalk, TwoTissuesFromVoxelsCalibrated)
 {
   const TwoTissueField field;
   ManufacturedCase<3> with;
   with.U = field.Solution();
   ExpectVaryingCalibrated<3>(
-    "two tissues", MakeIcosphere(4), with, field, RandomPointsInBall<3>(160, 0.9, 23));
+    "two tissues", MakeIcosphere(4), with, field, RandomPointsInBall<3>(160, 0.9, 23), 1024);
 }
 
 // Without the Δα/(2α) term of σ′ the walk solves another equation: the
