@@ -60,30 +60,9 @@ tissues.UpdatePipeline()
 
 
 def solver_of(equation):
-    s = pvs.WalkOnSpheresSolver(Boundary=skin, Probe=inside)
-    s.BoundaryValues = ["POINTS", "U"]
-    s.ComputeGradient = 1
-    s.WalksPerPoint = args.most
-    s.TargetStandardError = args.target
-    s.KeepRunningSums = 0
-    s.Seed = args.seed
-    if equation == "varying":
-        s.Source = tissues
-        s.Equation = "Varying Coefficients"
-        s.DiffusionFromArray = 1
-        s.DiffusionCoefficientArray = ["POINTS", "Conductivity"]
-        s.AbsorptionFromArray = 1
-        s.AbsorptionCoefficientArray = ["POINTS", "Perfusion"]
-        s.SourceTermFromArray = 1
-        s.SourceArray = ["POINTS", "Heat"]
-        s.CoefficientSmoothing = args.smoothing
-    else:
-        brain = bioheat_tissues.TISSUES["brain"]
-        alpha, sigma, f = bioheat_tissues.coefficients_per_mm(brain)
-        s.Equation = "Screened Poisson"
-        s.ScreeningCoefficient = sigma / alpha
-        s.SourceExpression = "%.10g" % (f / alpha)
-    return s
+    return bioheat_tissues.bioheat_solver(skin, inside, tissues, constant=equation == "constant",
+                                          walks=args.most, target=args.target,
+                                          smoothing=args.smoothing, seed=args.seed)
 
 
 def row(name, s):

@@ -1,15 +1,21 @@
-// The screening σ̄ a walk of the varying equation uses on one ball
+// The screening a walk of the varying equation uses on one ball
 // (VaryingCoefficientWalk.h). On B(x, R) the walk writes ΔU − σ′U = f′ as
 //
 //   ΔU − σ̄ U = f′ − (σ̄ − σ′) U,
 //
 // which holds for any constant σ̄ ≥ 0, so unbiasedness never depends on the
-// choice; the variance and the cost do. A collision at y multiplies the walk
-// by 1 − σ′(y)/σ̄: in [0, 1] (taken by roulette) when 0 ≤ σ′ ≤ σ̄, above 1
-// where σ′ < 0, negative where σ̄ < σ′. So σ̄ should bound σ′ on the ball
-// from above and bound 2|σ′| where σ′ is negative (weights at most 3/2), but
-// no larger: collisions become more frequent as σ̄R² grows. σ̄ = 0 says that
-// σ′ ≡ 0 on the ball (a harmonic step, no collisions).
+// choice; the variance and the cost do. A collision at y carries the factor
+// σ̄ − σ′(y): positive where σ′ ≤ σ̄, larger than σ̄ where σ′ < 0, negative
+// where σ̄ < σ′. So σ̄ should bound σ′ on the ball from above and bound
+// 2|σ′| where σ′ is negative (weights at most 3/2), but no larger:
+// collisions become more frequent as σ̄R² grows. σ̄ = 0 says that σ′ ≡ 0 on
+// the ball (a harmonic step, no collisions).
+//
+// A floor σ_c ∈ [0, σ̄] below σ′ on the ball lets the walk take the part σ_c
+// of the screening as a deterministic weight and collide only for the rest
+// (decomposition tracking: Kutz, Habel, Li and Novák, SIGGRAPH 2017, Sec. 5):
+// where σ′ hardly varies, as in the brain, the walk is then the
+// constant-coefficient screened walk. A floor of 0 is always valid.
 //
 // A bound per ball rather than one for the whole domain is what keeps the
 // walk cheap where the coefficients are flat (Sawhney et al. 2022, Sec. 5,
@@ -36,38 +42,66 @@
 
 namespace gridfree
 {
+// What the walk uses on one ball: the majorant σ̄ ≥ 0, a floor
+// 0 ≤ σ_c ≤ σ̄ with σ_c ≤ σ′ on the ball, and the range [Lowest, Highest]
+// that σ′ keeps to on the ball.
+struct BallScreening
+{
+  double Bound = 0.0;
+  double Floor = 0.0;
+  double Lowest = 0.0;
+  double Highest = 0.0;
+};
+
 template <int DIM>
 class ScreeningMajorant
 {
 public:
   virtual ~ScreeningMajorant() = default;
-  // σ̄ ≥ 0 for the ball B(center, radius).
-  virtual double ForBall(const Vec<DIM>& center, double radius) const = 0;
+  // σ̄ and σ_c for the ball B(center, radius).
+  virtual BallScreening ForBall(const Vec<DIM>& center, double radius) const = 0;
 };
 
-// From the lowest and highest σ′ on a region: the σ̄ the walk should use.
-inline double MajorantFromRange(double lowest, double highest)
+// From the lowest and highest σ′ on a region: the σ̄ and σ_c the walk should
+// use. The floor stays a sixteenth of σ̄ below it even where σ′ looked
+// constant, so the walk keeps colliding now and then: a floor equal to σ̄
+// would forbid collisions, and an extremum the sampling missed would then be
+// a bias instead of a variance.
+inline BallScreening ScreeningFromRange(double lowest, double highest)
 {
-  return std::max({ highest, -2.0 * lowest, 0.0 });
+  BallScreening s;
+  s.Lowest = lowest;
+  s.Highest = highest;
+  s.Bound = std::max({ highest, -2.0 * lowest, 0.0 });
+  s.Floor = std::min(std::max(lowest, 0.0), s.Bound * (15.0 / 16.0));
+  return s;
 }
 
-// One σ̄ everywhere.
+// One σ̄ (and one floor σ_c, 0 unless given) everywhere, for σ′ in
+// [−σ̄/2, σ̄]. A floor equal to σ̄ forbids collisions: exact only where σ′ ≡ σ̄.
 template <int DIM>
 class ConstantScreeningMajorant final : public ScreeningMajorant<DIM>
 {
 public:
-  explicit ConstantScreeningMajorant(double value)
-    : Value(value)
+  explicit ConstantScreeningMajorant(double value, double floor = 0.0)
   {
     if (!(value >= 0.0) || !std::isfinite(value))
     {
       throw std::invalid_argument("the screening majorant must be finite and >= 0");
     }
+    if (!(floor >= 0.0) || !(floor <= value))
+    {
+      throw std::invalid_argument("the screening floor must lie in [0, majorant]");
+    }
+    this->Value.Bound = value;
+    this->Value.Floor = floor;
+    this->Value.Lowest = -0.5 * value;
+    this->Value.Highest = value;
   }
-  double ForBall(const Vec<DIM>&, double) const override { return this->Value; }
+  BallScreening ForBall(const Vec<DIM>&, double) const override { return this->Value; }
 
 private:
-  double Value;
+  BallScreening Value;
 };
 
 // σ′ sampled on a lattice of (cells·k + 1)^n points over a box; each finest
@@ -199,9 +233,9 @@ public:
     }
   }
 
-  // The extremes of σ′ (with the margin) over the cells the ball's box
+  // From the extremes of σ′ (with the margin) over the cells the ball's box
   // touches, on the finest level whose cells are at least its diameter.
-  double ForBall(const Vec<DIM>& center, double radius) const override
+  BallScreening ForBall(const Vec<DIM>& center, double radius) const override
   {
     std::size_t level = 0;
     const double diameter = 2.0 * radius;
@@ -237,7 +271,7 @@ public:
         break;
       }
     }
-    return MajorantFromRange(lo, hi);
+    return ScreeningFromRange(lo, hi);
   }
 
   int LevelCount() const { return static_cast<int>(this->Levels.size()); }

@@ -11,17 +11,19 @@
 //
 //   U(x) = C·mean_∂B U − ∫_B G_σ̄ f′ + ∫_B G_σ̄ (σ̄ − σ′) U,
 //
-// with C = 1 − σ̄∫G_σ̄ the Yukawa boundary weight. The walk picks the sphere
-// with probability C (and moves to a uniform point on it), otherwise it
-// "collides" at y ~ G_σ̄/∫G_σ̄ and continues from y with its weight
-// multiplied by 1 − σ′(y)/σ̄ (1 for a null collision, σ′ = 0; 0 for an
+// with C = 1 − σ̄∫G_σ̄ the Yukawa boundary weight. With a floor σ_c ≤ σ′ on
+// the ball (decomposition tracking) the walk's weight is multiplied by
+// keep = 1 − σ_c∫G_σ̄ on every step; it picks the sphere with probability
+// C/keep (and moves to a uniform point on it), otherwise it "collides" at
+// y ~ G_σ̄/∫G_σ̄ and continues from y with its weight also multiplied by
+// (σ̄ − σ′(y))/(σ̄ − σ_c) (1 for a null collision with σ_c = σ′ = 0; 0 for an
 // absorption, σ′ = σ̄). Weights rather than analog absorption: killing walks
 // with probability σ′/σ̄ turned a smooth decay into all-or-nothing values,
 // several times the variance on absorbing tissue. Walks whose weight falls
-// below 0.1 play Russian roulette. Every step subtracts weight·∫G_σ̄·f′(y) at one y ~ G_σ̄ (the
-// collision's y when there is one). With σ̄ = 0 a step is a harmonic ball.
-// At the ε-shell the walk takes U = √α g at the closest point, and the
-// estimate is u(x0) = Û(x0)/√α(x0).
+// below 0.1 play Russian roulette. Every step subtracts weight·∫G_σ̄·f′(y)
+// at one y ~ G_σ̄ (the collision's y when there is one). With σ̄ = 0 a step is
+// a harmonic ball. At the ε-shell the walk takes U = √α g at the closest
+// point, and the estimate is u(x0) = Û(x0)/√α(x0).
 //
 // Gradients: the first ball B0 = B(x0, R0), R0 = dist(x0, ∂Ω), is taken by
 // hand with the identity's gradient
@@ -32,10 +34,11 @@
 // the second walk of a pair replaying the first one's random numbers), so
 // the constant part of U cancels exactly in the odd kernels and the
 // variance stays finite. The interior radius comes from FirstBallRadius.h
-// (it cancels the pole of ∇G); the two walks from x0 ± d run with
-// probability p = σ̄∫G_σ̄ (the collision probability) and count 1/p.
-// Then ∇u = (∇U − U ∇α/(2α))/√α, per sample, so the variance of the
-// reported gradient carries the covariance of U and ∇U.
+// (it cancels the pole of ∇G). The interior integrals take one pair per unit
+// of ∫G_σ̄·(spread of σ′ on B0) (at most 16), and a pair's two walks run with
+// a probability that follows its weights |σ̄ − σ′(x0 ± d)| and count 1/p:
+// none where σ′ = σ̄. Then ∇u = (∇U − U ∇α/(2α))/√α, per sample, so the
+// variance of the reported gradient carries the covariance of U and ∇U.
 //
 // Dirichlet conditions only; interior problems (a walk that leaves the far
 // sphere counts as escaped and takes U = 0). Points within ε of the
@@ -168,7 +171,8 @@ private:
   void FirstBall(
     const Vec<DIM>& x0, double r0, RandomStream& rng, int& steps, double& value, Vec<DIM>& gradient)
   {
-    const double sbar = this->Majorant.ForBall(x0, r0);
+    const BallScreening range = this->Majorant.ForBall(x0, r0);
+    const double sbar = range.Bound;
     double weightC = 1.0, kappa = DIM / r0;
     const bool screened = sbar > 0.0;
     YukawaGreensFunction<DIM> yukawa(r0, screened ? sbar : 1.0);
@@ -186,40 +190,54 @@ private:
     value = weightC * 0.5 * (plus + minus);
     gradient = kappa * 0.5 * (plus - minus) * nu;
 
-    if (!screened && !this->HasSource)
+    const double spread = std::max(range.Highest - sbar, sbar - range.Lowest);
+    if (!screened && !this->HasSource && !(spread > 0.0))
     {
-      return;
+      return; // σ′ ≡ 0 on the ball, no source: the interior integrals vanish.
     }
+    // The interior integrals from `pairs` samples: a pair's weights grow as
+    // ∫G·|σ̄ − σ′|, and one sample of a large weight gave heavy tails; the
+    // pairs cost walks only where σ′ differs from σ̄.
+    const double integral = screened ? yukawa.Integral() : harmonic.Integral();
+    const int pairs = static_cast<int>(
+      std::min<double>(kMostInteriorPairs, std::max(1.0, std::ceil(integral * spread))));
+    const double share = 1.0 / pairs;
     const double z = screened ? std::sqrt(sbar) * r0 : 0.0;
-    const double r = FirstBallRadius<DIM>::Sample(r0, z, rng);
-    const Vec<DIM> omega = SampleUnitSphere<DIM>(rng);
-    const double q = FirstBallRadius<DIM>::Weight(r, r0, z);
-    const double g = screened ? yukawa.Value(r) : harmonic.Value(r);
-    const double dg = screened ? yukawa.GradientMagnitude(r) : harmonic.GradientMagnitude(r);
-    const Vec<DIM> yPlus = x0 + r * omega, yMinus = x0 - r * omega;
-    CoefficientSample<DIM> cPlus, cMinus;
-    this->Field.Evaluate(yPlus, cPlus);
-    this->Field.Evaluate(yMinus, cMinus);
-    const TransformedCoefficients tPlus = Transform(cPlus), tMinus = Transform(cMinus);
-    if (this->HasSource)
+    for (int pair = 0; pair < pairs; ++pair)
     {
-      value -= q * g * 0.5 * (tPlus.Source + tMinus.Source);
-      gradient -= q * dg * 0.5 * (tPlus.Source - tMinus.Source) * omega;
+      const double r = FirstBallRadius<DIM>::Sample(r0, z, rng);
+      const Vec<DIM> omega = SampleUnitSphere<DIM>(rng);
+      const double q = share * FirstBallRadius<DIM>::Weight(r, r0, z);
+      const double g = screened ? yukawa.Value(r) : harmonic.Value(r);
+      const double dg = screened ? yukawa.GradientMagnitude(r) : harmonic.GradientMagnitude(r);
+      const Vec<DIM> yPlus = x0 + r * omega, yMinus = x0 - r * omega;
+      CoefficientSample<DIM> cPlus, cMinus;
+      this->Field.Evaluate(yPlus, cPlus);
+      this->Field.Evaluate(yMinus, cMinus);
+      const TransformedCoefficients tPlus = Transform(cPlus), tMinus = Transform(cMinus);
+      if (this->HasSource)
+      {
+        value -= q * g * 0.5 * (tPlus.Source + tMinus.Source);
+        gradient -= q * dg * 0.5 * (tPlus.Source - tMinus.Source) * omega;
+      }
+      // Russian roulette on the pair by the size of its weights (q·g and
+      // q·dg·r0 are dimensionless beside σ̄ − σ′): unbiased, as the
+      // probability is fixed before the walks that it multiplies.
+      const double largest =
+        std::max(std::abs(sbar - tPlus.Screening), std::abs(sbar - tMinus.Screening));
+      const double p =
+        std::min(1.0, kInteriorRoulette * pairs * q * std::max(g, dg * r0) * largest);
+      if (!(p > 0.0) || rng.NextDouble() >= p)
+      {
+        continue;
+      }
+      RandomStream replayInside = rng;
+      const double aPlus = (sbar - tPlus.Screening) * this->Continue(yPlus, rng, steps);
+      const double aMinus =
+        (sbar - tMinus.Screening) * this->Continue(yMinus, replayInside, steps);
+      value += q * g * 0.5 * (aPlus + aMinus) / p;
+      gradient += q * dg * 0.5 * (aPlus - aMinus) / p * omega;
     }
-    if (!screened)
-    {
-      return;
-    }
-    const double p = std::min(1.0, std::max(sbar * yukawa.Integral(), 1e-6));
-    if (rng.NextDouble() >= p)
-    {
-      return;
-    }
-    RandomStream replayInside = rng;
-    const double aPlus = (sbar - tPlus.Screening) * this->Continue(yPlus, rng, steps);
-    const double aMinus = (sbar - tMinus.Screening) * this->Continue(yMinus, replayInside, steps);
-    value += q * g * 0.5 * (aPlus + aMinus) / p;
-    gradient += q * dg * 0.5 * (aPlus - aMinus) / p * omega;
   }
 
   // Û(x): a walk with delta tracking from x, adding its steps to `steps`.
@@ -256,11 +274,18 @@ private:
         this->Note(WalkEnd::MaxSteps);
         break;
       }
-      const double sbar = this->Majorant.ForBall(x, radius);
+      const BallScreening screening = this->Majorant.ForBall(x, radius);
+      const double sbar = screening.Bound;
       if (sbar > 0.0)
       {
         const YukawaGreensFunction<DIM> green(radius, sbar);
-        const bool collide = rng.NextDouble() >= green.BoundaryWeight();
+        // The floor's share of the screening is a weight every step carries
+        // (decomposition tracking): the sphere is taken with probability
+        // C/keep, a collision with the rest, and both branches carry keep.
+        const double floor = screening.Floor;
+        const double keep = 1.0 - floor * green.Integral();
+        const bool collide = floor < sbar &&
+          rng.NextDouble() * keep >= green.BoundaryWeight();
         if (collide || this->HasSource)
         {
           const Vec<DIM> offset = green.SampleOffset(rng);
@@ -270,16 +295,10 @@ private:
           accumulated -= weight * green.Integral() * t.Source;
           if (collide)
           {
-            weight *= 1.0 - t.Screening / sbar;
-            // Russian roulette on small weights (unbiased: survivors are
-            // raised back to the threshold).
-            if (std::abs(weight) < kRouletteWeight)
+            weight *= keep * (sbar - t.Screening) / (sbar - floor);
+            if (!this->Roulette(weight, rng))
             {
-              if (rng.NextDouble() * kRouletteWeight >= std::abs(weight))
-              {
-                return accumulated;
-              }
-              weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
+              return accumulated;
             }
             const double clear = radius - offset.norm();
             if (clear >= kReuseFraction * radius && clear >= s.Epsilon)
@@ -289,6 +308,11 @@ private:
             x = y;
             continue;
           }
+        }
+        weight *= keep;
+        if (!this->Roulette(weight, rng))
+        {
+          return accumulated;
         }
       }
       else if (this->HasSource)
@@ -306,6 +330,22 @@ private:
     return accumulated + weight * std::sqrt(c.Alpha) * g;
   }
 
+  // Russian roulette on small weights (unbiased: survivors are raised back
+  // to the threshold). False when the walk ends.
+  static bool Roulette(double& weight, RandomStream& rng)
+  {
+    if (std::abs(weight) >= kRouletteWeight)
+    {
+      return true;
+    }
+    if (rng.NextDouble() * kRouletteWeight >= std::abs(weight))
+    {
+      return false;
+    }
+    weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
+    return true;
+  }
+
   // Keeps the most telling way a sample's walks ended.
   void Note(WalkEnd end)
   {
@@ -315,6 +355,11 @@ private:
     }
   }
 
+  // The first ball's interior pair runs with probability this times its
+  // weight (capped at 1): roulette only below a weight of 1/kInteriorRoulette.
+  static constexpr double kInteriorRoulette = 4.0;
+  // The most interior pairs of the first ball.
+  static constexpr int kMostInteriorPairs = 16;
   // Walks whose weight falls below this play Russian roulette.
   static constexpr double kRouletteWeight = 0.1;
   // A collision's ball B(y, R − |y − x|) is used without a query when it is

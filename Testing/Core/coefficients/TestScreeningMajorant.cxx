@@ -1,9 +1,9 @@
 // Tests of gridfree/coefficients/ScreeningMajorant.h: the bound grid's σ̄
-// for a ball bounds σ′ from above and 2|σ′| where σ′ < 0 at points sampled
-// densely in the ball, for balls of every size; it is tight where the
-// coefficients are flat (far below the global bound away from a steep
-// step) and exactly 0 where σ′ vanishes; bad boxes and non-finite
-// coefficients are refused.
+// for a ball bounds σ′ from above and 2|σ′| where σ′ < 0, its floor σ_c lies
+// below σ′ and σ′ keeps to its reported range, at points sampled densely in
+// the ball, for balls of every size; it is tight where the coefficients
+// are flat (far below the global bound away from a steep step) and exactly 0
+// where σ′ vanishes; bad boxes and non-finite coefficients are refused.
 #include <gridfree/coefficients/ScreeningMajorant.h>
 #include "EstimatorChecks.h"
 #include "ManufacturedCoefficients.h"
@@ -41,7 +41,9 @@ TEST(ScreeningMajorant, BoundsEveryBallOfTheGrid)
     for (int b = 0; b < 40; ++b)
     {
       const Vec<2> center(unit(rng), unit(rng));
-      const double bound = grid.ForBall(center, radius);
+      const BallScreening bound = grid.ForBall(center, radius);
+      EXPECT_GE(bound.Floor, 0.0);
+      EXPECT_LT(bound.Floor, bound.Bound);
       for (const Vec<2>& d : RandomPointsInBall<2>(200, radius, 100 + b))
       {
         const Vec<2> y = center + d;
@@ -52,8 +54,11 @@ TEST(ScreeningMajorant, BoundsEveryBallOfTheGrid)
         CoefficientSample<2> c;
         field.Evaluate(y, c);
         const double s = Transform(c).Screening;
-        EXPECT_GE(bound, s);
-        EXPECT_GE(bound, -2.0 * s);
+        EXPECT_GE(bound.Bound, s);
+        EXPECT_GE(bound.Bound, -2.0 * s);
+        EXPECT_LE(bound.Floor, std::max(s, 0.0));
+        EXPECT_LE(bound.Lowest, s);
+        EXPECT_GE(bound.Highest, s);
         ++checked;
       }
     }
@@ -65,11 +70,15 @@ TEST(ScreeningMajorant, TightAwayFromTheStep)
 {
   const ManufacturedField<2> field(SteepStep());
   const ScreeningBoundGrid<2> grid(field, Vec<2>(-1, -1), Vec<2>(1, 1), {});
-  const double global = grid.ForBall(Vec<2>(0, 0), 2.0);
-  // Far from x = 0, α ≈ 10 is flat and σ′ ≈ σ/10 ≤ 0.2.
-  const double flat = grid.ForBall(Vec<2>(0.8, 0.0), 0.1);
-  EXPECT_LT(flat, 0.3);
-  EXPECT_GT(global, 100.0 * flat);
+  const BallScreening global = grid.ForBall(Vec<2>(0, 0), 2.0);
+  // Far from x = 0, α ≈ 10 is flat and σ′ ≈ σ/10 ∈ [0.1, 0.2]: the floor
+  // takes most of it.
+  const BallScreening flat = grid.ForBall(Vec<2>(0.8, 0.0), 0.1);
+  EXPECT_LT(flat.Bound, 0.3);
+  EXPECT_GT(flat.Floor, 0.5 * flat.Bound);
+  EXPECT_GT(global.Bound, 100.0 * flat.Bound);
+  // The step makes σ′ negative somewhere in the whole box: no floor.
+  EXPECT_EQ(global.Floor, 0.0);
 }
 
 TEST(ScreeningMajorant, ZeroWhereNothingScreens)
@@ -77,8 +86,10 @@ TEST(ScreeningMajorant, ZeroWhereNothingScreens)
   const CallableCoefficients<3> field(
     [](const Vec<3>&, CoefficientSample<3>& out) { out.Alpha = 3.0; });
   const ScreeningBoundGrid<3> grid(field, Vec<3>(0, 0, 0), Vec<3>(1, 2, 3), {});
-  EXPECT_EQ(grid.ForBall(Vec<3>(0.5, 1.0, 1.5), 0.2), 0.0);
-  EXPECT_EQ(ConstantScreeningMajorant<3>(2.5).ForBall(Vec<3>(0, 0, 0), 1.0), 2.5);
+  EXPECT_EQ(grid.ForBall(Vec<3>(0.5, 1.0, 1.5), 0.2).Bound, 0.0);
+  EXPECT_EQ(ConstantScreeningMajorant<3>(2.5).ForBall(Vec<3>(0, 0, 0), 1.0).Bound, 2.5);
+  EXPECT_EQ(ConstantScreeningMajorant<3>(2.5).ForBall(Vec<3>(0, 0, 0), 1.0).Floor, 0.0);
+  EXPECT_EQ(ConstantScreeningMajorant<3>(2.5, 1.5).ForBall(Vec<3>(0, 0, 0), 1.0).Floor, 1.5);
 }
 
 TEST(ScreeningMajorant, RefusesBadInput)
@@ -89,6 +100,8 @@ TEST(ScreeningMajorant, RefusesBadInput)
   const ManufacturedField<2> fine(SteepStep());
   EXPECT_THROW(ScreeningBoundGrid<2>(fine, Vec<2>(0, 0), Vec<2>(1, 0), {}), std::invalid_argument);
   EXPECT_THROW(ConstantScreeningMajorant<2>(-1.0), std::invalid_argument);
+  EXPECT_THROW(ConstantScreeningMajorant<2>(1.0, 2.0), std::invalid_argument);
+  EXPECT_THROW(ConstantScreeningMajorant<2>(1.0, -0.5), std::invalid_argument);
 }
 
 // The message names the coefficient and the place.

@@ -1,6 +1,6 @@
 // The varying-coefficient walk on real tissue coefficients against a
 // reference solve written here: a 24 mm box inside the headsq CT (about
-// half brain, half skull bone, some muscle), the steady Pennes bioheat
+// half brain, half skull bone), the steady Pennes bioheat
 // equation with the tissue table of Documentation/Examples/bioheat_tissues.py,
 // coefficients smoothed by a 2 mm Gaussian and the cubic B-spline
 // (ImageCoefficients.h). The reference is a conservative 7-point finite
@@ -32,26 +32,30 @@ using namespace gridfree::testing;
 namespace
 {
 // The tissue table per mm² (bioheat_tissues.py): α = k, σ = w·1e-6,
-// f = −Q·1e-6 for air, skin and fat, soft tissue (the box lies deeper than
-// 10 mm inside the head, where soft tissue is brain) and bone.
+// f = −Q·1e-6 for skin (and the outside, which takes the skin's), fat, soft
+// tissue (the box lies deeper than 10 mm inside the head, where soft tissue
+// is brain) and bone; w = rate·1e-6/60 · density · 1049.75 · 3617.
 struct Tissue
 {
   double Alpha, Sigma, F;
 };
+double PerfusionOf(double mlPerMinPerKg, double density)
+{
+  return mlPerMinPerKg * 1e-6 / 60.0 * density * 1049.75 * 3617.0;
+}
 Tissue TissueOf(double ct)
 {
-  const double brainPerfusion = 558.6e-6 / 60.0 * 1045.5 * 1049.75 * 3617.0;
-  if (ct < 624.0)
+  if (ct < 834.0)
   {
-    return { 0.024, 0.0, 0.0 };
+    return { 0.372, PerfusionOf(106.4, 1109.0) * 1e-6, 0.0 };
   }
-  if (ct <= 1000.0)
+  if (ct < 994.0)
   {
-    return { 0.42, 8065.0e-6, 0.0 };
+    return { 0.211, PerfusionOf(32.71, 911.0) * 1e-6, -0.507 * 911.0 * 1e-6 };
   }
   if (ct <= 1174.0)
   {
-    return { 0.513, brainPerfusion * 1e-6, -11.37 * 1045.5 * 1e-6 };
+    return { 0.513, PerfusionOf(558.6, 1045.5) * 1e-6, -11.37 * 1045.5 * 1e-6 };
   }
   return { 0.40, 3400.0e-6, 0.0 };
 }
@@ -226,7 +230,7 @@ TEST(VaryingCoefficientWalk, AgreesWithFiniteDifferencesOnTheHeadCt)
   std::mt19937 rng(29);
   std::uniform_int_distribution<int> node(2, coarse.N - 3);
   std::vector<Vec<3>> points;
-  for (int p = 0; p < 80; ++p)
+  for (int p = 0; p < 160; ++p)
   {
     points.push_back(lo + Vec<3>(node(rng), node(rng), node(rng)));
   }
