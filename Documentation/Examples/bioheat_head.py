@@ -81,24 +81,12 @@ def main():
     if not hasattr(pvs, "WalkOnSpheresSolver"):
         sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder "
                  "(`./gridfree env` prints it).")
-    volume = args.volume or os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME)
-    # The CT workflow's skin, padded volume and slice (its own Poisson solver
-    # is not used here).
-    p = ct_workflow.build_pipeline(volume, walks=1, slice_z=args.slice_z)
-    ct_array = p["volume"].PointData.keys()[0]
+    # The CT workflow's skin, padded volume and slice, the slice's points
+    # inside the head (where the equation holds), the skin at u = −3 °C and
+    # the tissue arrays.
+    p = bioheat_tissues.head_inputs(args.volume, args.slice_z)
+    ct_array, inside, skin, tissues = p["ct_array"], p["inside"], p["skin_u"], p["tissues"]
     (x0, x1, y0, y1, _, _) = p["volume"].GetDataInformation().GetBounds()
-
-    # The equation holds inside the head: the slice's points whose CT value
-    # is tissue.
-    inside = pvs.Threshold(Input=p["slice"], Scalars=["POINTS", ct_array],
-                           LowerThreshold=ct_workflow.SKIN_ISO_VALUE, UpperThreshold=1e9,
-                           AllScalars=1)
-    pvs.RenameSource("Slice inside the head", inside)
-    skin = pvs.Calculator(Input=p["skin"], ResultArrayName="U",
-                          Function="%g" % (bioheat_tissues.SKIN_TEMPERATURE
-                                           - bioheat_tissues.ARTERIAL_TEMPERATURE))
-    pvs.RenameSource("Skin at 34 °C (u = T - T_a)", skin)
-    tissues = bioheat_tissues.tissue_arrays(p["padded"], ct_array)
 
     options = dict(walks=args.walks, target=args.target, smoothing=args.smoothing,
                    seed=args.seed)
@@ -188,14 +176,7 @@ def main():
         view.ResetCamera(False)
 
     picture = os.path.join(args.output, "bioheat_slice.png")
-    # An X server slow to come up under load can lose the first render: try
-    # once more, and fail loudly rather than leave no picture.
-    for _ in range(2):
-        if pvs.SaveScreenshot(picture, layout, ImageResolution=[1280, 640]) and \
-                os.path.isfile(picture) and os.path.getsize(picture) > 0:
-            break
-    else:
-        sys.exit(f"could not write {picture}")
+    ct_workflow.save_picture(picture, layout, [1280, 640])
     print(f"wrote {slice_file} and {picture}")
 
 

@@ -45,7 +45,11 @@ several times slower.
 Units: the head is in millimetres. Dividing the equation by 1e6 keeps k in
 W/(m K) and scales w and Q by 1e-6 (coefficients_per_mm).
 """
+import os
+
 import paraview.simple as pvs
+
+import ct_workflow
 
 ARTERIAL_TEMPERATURE = 37.0  # °C, T_a
 SKIN_TEMPERATURE = 34.0      # °C, the skin held by a room-facing boundary
@@ -170,3 +174,26 @@ def bioheat_solver(boundary, probe, tissues, constant=False, walks=512, target=0
         s.SourceArray = ["POINTS", "Heat"]
         s.CoefficientSmoothing = smoothing
     return s
+
+
+def head_inputs(volume=None, slice_z=70.0):
+    """The CT workflow's pipeline (ct_workflow.build_pipeline; its own
+    Poisson solver is deleted) with what the bioheat solvers take: `skin`
+    (the skin with u = T − T_a = −3 °C in its array U), `inside` (the slice's
+    points inside the head, where the equation holds) and `tissues`
+    (tissue_arrays of the padded volume); `ct_array` names the CT values."""
+    volume = volume or os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME)
+    p = ct_workflow.build_pipeline(volume, walks=1, slice_z=slice_z)
+    pvs.Delete(p["solver"])
+    p["ct_array"] = p["volume"].PointData.keys()[0]
+    p["inside"] = pvs.Threshold(Input=p["slice"], Scalars=["POINTS", p["ct_array"]],
+                                LowerThreshold=ct_workflow.SKIN_ISO_VALUE,
+                                UpperThreshold=1e9, AllScalars=1)
+    pvs.RenameSource("Slice inside the head", p["inside"])
+    p["skin_u"] = pvs.Calculator(Input=p["skin"], ResultArrayName="U",
+                                 Function="%g" % (SKIN_TEMPERATURE - ARTERIAL_TEMPERATURE))
+    pvs.RenameSource("Skin at 34 °C (u = T - T_a)", p["skin_u"])
+    p["tissues"] = tissue_arrays(p["padded"], p["ct_array"])
+    for name in ("inside", "skin_u", "tissues"):
+        p[name].UpdatePipeline()
+    return p

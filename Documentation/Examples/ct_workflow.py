@@ -252,6 +252,17 @@ def show(p, view):
     pvs.GetActiveCamera().Dolly(1.25)
 
 
+def save_picture(picture, view, resolution):
+    """Saves a view's or a layout's screenshot. An X server slow to come up
+    under load can lose the first render: tries once more, and fails loudly
+    rather than leave no picture."""
+    for _ in range(2):
+        if pvs.SaveScreenshot(picture, view, ImageResolution=resolution) and \
+                os.path.isfile(picture) and os.path.getsize(picture) > 0:
+            return
+    sys.exit("could not write " + picture)
+
+
 def summary(solver):
     fd = solver.FieldData
     return {name: fd[name].GetRange()[0] for name in
@@ -304,14 +315,7 @@ def run_headless(args):
     view.Background = [0.12, 0.12, 0.16]
     show(p, view)
     picture = os.path.join(args.output, "ct_workflow.png")
-    # An X server slow to come up under load can lose the first render: try
-    # once more, and fail loudly rather than leave no picture.
-    for _ in range(2):
-        if pvs.SaveScreenshot(picture, view, ImageResolution=[1200, 900]) and \
-                os.path.isfile(picture) and os.path.getsize(picture) > 0:
-            break
-    else:
-        sys.exit("could not write " + picture)
+    save_picture(picture, view, [1200, 900])
     print("wrote %s, %s and %s" % (names[0], names[1], picture))
     return p
 

@@ -40,23 +40,8 @@ parser.add_argument("--smoothing", type=float, default=2.0, help="Gaussian width
 parser.add_argument("--seed", type=int, default=1)
 args = parser.parse_args()
 
-volume = os.path.join(ct_workflow.data_folder(), "headsq_headCT.mhd")
-p = ct_workflow.build_pipeline(volume, walks=16)
-ct_array = p["volume"].PointData.keys()[0]
-pvs.Delete(p["solver"])
-
-# The probe: the slice's points inside the head (the equation holds there;
-# the tissue image says nothing about the air around the head).
-inside = pvs.Threshold(Input=p["slice"], Scalars=["POINTS", ct_array],
-                       LowerThreshold=ct_workflow.SKIN_ISO_VALUE, UpperThreshold=1e9,
-                       AllScalars=1)
-inside.UpdatePipeline()
-skin = pvs.Calculator(Input=p["skin"], ResultArrayName="U",
-                      Function="%g" % (bioheat_tissues.SKIN_TEMPERATURE
-                                       - bioheat_tissues.ARTERIAL_TEMPERATURE))
-tissues = bioheat_tissues.tissue_arrays(p["padded"], ct_array)
-skin.UpdatePipeline()
-tissues.UpdatePipeline()
+p = bioheat_tissues.head_inputs()
+ct_array, inside, skin, tissues = p["ct_array"], p["inside"], p["skin_u"], p["tissues"]
 
 
 def solver_of(equation):

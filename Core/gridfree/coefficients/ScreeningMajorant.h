@@ -244,6 +244,21 @@ public:
     {
       ++level;
     }
+    return this->OnLevel(level, center, radius);
+  }
+
+  int LevelCount() const { return static_cast<int>(this->Levels.size()); }
+
+private:
+  struct Level
+  {
+    int Cells = 1;
+    std::vector<double> Low;
+    std::vector<double> High;
+  };
+
+  BallScreening OnLevel(std::size_t level, const Vec<DIM>& center, double radius) const
+  {
     const Level& at = this->Levels[level];
     const Vec<DIM> size = this->CellSize * static_cast<double>(1 << level);
     std::array<int, DIM> first, last;
@@ -273,16 +288,6 @@ public:
     }
     return ScreeningFromRange(lo, hi);
   }
-
-  int LevelCount() const { return static_cast<int>(this->Levels.size()); }
-
-private:
-  struct Level
-  {
-    int Cells = 1;
-    std::vector<double> Low;
-    std::vector<double> High;
-  };
 
   static std::size_t CellCount(int cells)
   {

@@ -118,36 +118,63 @@ public:
   DerivativeStatus EstimatePoint(const double probeXYZ[3], std::uint64_t seed,
     std::uint64_t firstWalk, int walks, Statistics& stats, WalkCounters& counters)
   {
-    CoefficientSample<DIM> atStart;
+    Start start;
     DerivativeStatus status = DerivativeStatus::Unavailable;
     RunPointWalks<DIM>(probeXYZ, seed, firstWalk, walks, this->Sample, stats, counters,
       [&](const Vec<DIM>& x0, int w, RandomStream& rng, int& steps) {
         if (w == 0)
         {
-          this->Field.Evaluate(x0, atStart);
-          status = !this->Settings.Gradient || this->Geometry.Distance(x0) >= this->Settings.Epsilon
+          start = this->StartAt(x0);
+          status = !this->Settings.Gradient || start.Distance >= this->Settings.Epsilon
             ? DerivativeStatus::Interior
             : DerivativeStatus::Unavailable;
         }
-        return this->Walk(x0, atStart, rng, this->Sample.data(), steps);
+        return this->Walk(x0, start, rng, this->Sample.data(), steps);
       });
     return status;
   }
 
-  // One sample at x0 (coefficients `atStart` there) into `sample`.
-  WalkEnd Walk(const Vec<DIM>& x0, const CoefficientSample<DIM>& atStart, RandomStream& rng,
-    double* sample, int& steps)
+  // What every walk from one point shares, found once per point: the
+  // coefficients there and, for gradients, the first ball's radius (the
+  // distance to the boundary) and its screening.
+  struct Start
+  {
+    CoefficientSample<DIM> Coefficients;
+    double Distance = std::numeric_limits<double>::quiet_NaN();
+    BallScreening Range;
+  };
+
+  Start StartAt(const Vec<DIM>& x0) const
+  {
+    Start start;
+    this->Field.Evaluate(x0, start.Coefficients);
+    if (!this->Settings.Gradient)
+    {
+      return start;
+    }
+    start.Distance = this->Geometry.Distance(x0);
+    if (!(start.Distance >= this->Settings.Epsilon))
+    {
+      return start;
+    }
+    start.Range = this->Majorant.ForBall(x0, start.Distance);
+    return start;
+  }
+
+  // One sample at x0 (`start` from StartAt(x0)) into `sample`.
+  WalkEnd Walk(const Vec<DIM>& x0, const Start& start, RandomStream& rng, double* sample,
+    int& steps)
   {
     steps = 0;
     this->End = WalkEnd::Boundary;
+    const CoefficientSample<DIM>& atStart = start.Coefficients;
     const double sqrtAlpha = std::sqrt(atStart.Alpha);
     if (!this->Settings.Gradient)
     {
       sample[0] = this->Continue(x0, rng, steps) / sqrtAlpha;
       return this->End;
     }
-    const double r0 = this->Geometry.Distance(x0);
-    if (!(r0 >= this->Settings.Epsilon))
+    if (!(start.Distance >= this->Settings.Epsilon))
     {
       // In the ε-shell: u = g, no ball for a gradient.
       sample[0] = this->Continue(x0, rng, steps) / sqrtAlpha;
@@ -156,7 +183,7 @@ public:
     }
     double value = 0.0;
     Vec<DIM> gradient = Vec<DIM>::Zero();
-    this->FirstBall(x0, r0, rng, steps, value, gradient);
+    this->FirstBall(x0, start, rng, steps, value, gradient);
     sample[0] = value / sqrtAlpha;
     const Vec<DIM> g = (gradient - value * atStart.AlphaGradient / (2.0 * atStart.Alpha)) / sqrtAlpha;
     for (int i = 0; i < DIM; ++i)
@@ -168,10 +195,11 @@ public:
 
 private:
   // The first ball's identity and its gradient, each term antithetic.
-  void FirstBall(
-    const Vec<DIM>& x0, double r0, RandomStream& rng, int& steps, double& value, Vec<DIM>& gradient)
+  void FirstBall(const Vec<DIM>& x0, const Start& start, RandomStream& rng, int& steps,
+    double& value, Vec<DIM>& gradient)
   {
-    const BallScreening range = this->Majorant.ForBall(x0, r0);
+    const double r0 = start.Distance;
+    const BallScreening& range = start.Range;
     const double sbar = range.Bound;
     double weightC = 1.0, kappa = DIM / r0;
     const bool screened = sbar > 0.0;
