@@ -23,6 +23,9 @@
 #include <gridfree/coefficients/VaryingCoefficients.h>
 #include <gridfree/math/Vector.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -84,18 +87,22 @@ inline std::vector<double> SmoothOnGrid(
     {
       stride *= static_cast<std::size_t>(grid.Dims[a]);
     }
-    for (std::size_t index = 0; index < values.size(); ++index)
-    {
-      const int i = static_cast<int>((index / stride) % static_cast<std::size_t>(n));
-      const std::size_t base = index - static_cast<std::size_t>(i) * stride;
-      double sum = 0.0;
-      for (int d = -reach; d <= reach; ++d)
-      {
-        const int j = std::min(std::max(i + d, 0), n - 1);
-        sum += kernel[d + reach] * values[base + static_cast<std::size_t>(j) * stride];
-      }
-      scratch[index] = sum;
-    }
+    // Every output voxel is its own sum, the same on any thread count.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 4096),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t index = range.begin(); index != range.end(); ++index)
+        {
+          const int i = static_cast<int>((index / stride) % static_cast<std::size_t>(n));
+          const std::size_t base = index - static_cast<std::size_t>(i) * stride;
+          double sum = 0.0;
+          for (int d = -reach; d <= reach; ++d)
+          {
+            const int j = std::min(std::max(i + d, 0), n - 1);
+            sum += kernel[d + reach] * values[base + static_cast<std::size_t>(j) * stride];
+          }
+          scratch[index] = sum;
+        }
+      });
     values.swap(scratch);
   }
   return values;
