@@ -24,6 +24,9 @@ mixes the grid's discretisation error with the smoothing's modelling error).
     pvbatch ct_bioheat_grid.py --target 0 --most 8     # 8 walks per point
 """
 import argparse
+# min/max from builtins: pvbatch's Programmable Filter puts VTK's array
+# reductions of the same names into the module's globals.
+import builtins
 import math
 import os
 import sys
@@ -152,7 +155,7 @@ print("| solve | unknowns or points | seconds | iterations or walks | "
 print("|---|---:|---:|---:|---:|")
 print("| grid: whole head at the CT's resolution, NumPy PCG | %d | %.2f | %d | — |"
       % (unknowns, grid_seconds, iterations))
-how = ("to %.2g °C (at least %d walks per point)" % (args.target, min(128, args.most))
+how = ("to %.2g °C (at least %d walks per point)" % (args.target, builtins.min(128, args.most))
        if args.target > 0 else "%d walks per point" % args.most)
 print("| walk: slice inside the head, %s | %d | %.2f | %.3g | %.3f / %.3f |"
       % (how, len(walk_u), walk_seconds, walks,

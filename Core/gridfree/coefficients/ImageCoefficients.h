@@ -156,7 +156,12 @@ public:
       {
         this->Check(names[c], c, k.Values[i], static_cast<std::ptrdiff_t>(i));
       }
-      this->Values[c] = SmoothOnGrid(grid, std::move(k.Values), smoothingWidth);
+      const std::vector<double> smoothed = SmoothOnGrid(grid, std::move(k.Values), smoothingWidth);
+      this->Packed.resize(3 * grid.Count());
+      for (std::size_t i = 0; i < smoothed.size(); ++i)
+      {
+        this->Packed[3 * i + static_cast<std::size_t>(c)] = smoothed[i];
+      }
     }
     this->SourceIsZero = this->Constant[2] && this->ConstantValue[2] == 0.0;
   }
@@ -229,50 +234,47 @@ public:
     const bool varyingAlpha = !this->Constant[0];
     const bool varyingSigma = !this->Constant[1];
     const bool varyingSource = !this->Constant[2];
-    for (int c = 0; c < taps[2]; ++c)
+    // The three coefficients of a voxel lie side by side (Packed), so a row
+    // of four taps reads two or three cache lines for all of them; a
+    // constant coefficient's slot holds zeros and its sums are not used.
+    const double* packed = this->Packed.empty() ? nullptr : this->Packed.data();
+    if (packed)
     {
-      // Along y for this z: value, ∂x, ∂y, ∂xx, ∂yy of α; values of σ, f.
-      double a0 = 0.0, ax = 0.0, ay = 0.0, axx = 0.0, ayy = 0.0, s0 = 0.0, f0 = 0.0;
-      for (int b = 0; b < taps[1]; ++b)
+      for (int c = 0; c < taps[2]; ++c)
       {
-        const std::size_t row = nx * (voxel[1][b] + ny * voxel[2][c]);
-        double r0 = 0.0, r1 = 0.0, r2 = 0.0, rs = 0.0, rf = 0.0;
-        for (int a = 0; a < taps[0]; ++a)
+        // Along y for this z: value, ∂x, ∂y, ∂xx, ∂yy of α; values of σ, f.
+        double a0 = 0.0, ax = 0.0, ay = 0.0, axx = 0.0, ayy = 0.0, s0 = 0.0, f0 = 0.0;
+        for (int b = 0; b < taps[1]; ++b)
         {
-          const std::size_t index = row + voxel[0][a];
-          if (varyingAlpha)
+          const std::size_t row = nx * (voxel[1][b] + ny * voxel[2][c]);
+          double r0 = 0.0, r1 = 0.0, r2 = 0.0, rs = 0.0, rf = 0.0;
+          for (int a = 0; a < taps[0]; ++a)
           {
-            const double v = this->Values[0][index];
-            r0 += w[0][a] * v;
-            r1 += dw[0][a] * v;
-            r2 += ddw[0][a] * v;
+            const double* v = packed + 3 * (row + voxel[0][a]);
+            r0 += w[0][a] * v[0];
+            r1 += dw[0][a] * v[0];
+            r2 += ddw[0][a] * v[0];
+            rs += w[0][a] * v[1];
+            rf += w[0][a] * v[2];
           }
-          if (varyingSigma)
-          {
-            rs += w[0][a] * this->Values[1][index];
-          }
-          if (varyingSource)
-          {
-            rf += w[0][a] * this->Values[2][index];
-          }
+          a0 += w[1][b] * r0;
+          ax += w[1][b] * r1;
+          ay += dw[1][b] * r0;
+          axx += w[1][b] * r2;
+          ayy += ddw[1][b] * r0;
+          s0 += w[1][b] * rs;
+          f0 += w[1][b] * rf;
         }
-        a0 += w[1][b] * r0;
-        ax += w[1][b] * r1;
-        ay += dw[1][b] * r0;
-        axx += w[1][b] * r2;
-        ayy += ddw[1][b] * r0;
-        s0 += w[1][b] * rs;
-        f0 += w[1][b] * rf;
+        alpha += w[2][c] * a0;
+        dx += w[2][c] * ax;
+        dy += w[2][c] * ay;
+        dz += dw[2][c] * a0;
+        dxx += w[2][c] * axx;
+        dyy += w[2][c] * ayy;
+        dzz += ddw[2][c] * a0;
+        sigma += w[2][c] * s0;
+        source += w[2][c] * f0;
       }
-      alpha += w[2][c] * a0;
-      dx += w[2][c] * ax;
-      dy += w[2][c] * ay;
-      dz += dw[2][c] * a0;
-      dxx += w[2][c] * axx;
-      dyy += w[2][c] * ayy;
-      dzz += ddw[2][c] * a0;
-      sigma += w[2][c] * s0;
-      source += w[2][c] * f0;
     }
     if (varyingAlpha)
     {
@@ -344,7 +346,8 @@ private:
   }
 
   VoxelGrid Grid;
-  std::array<std::vector<double>, 3> Values;
+  // α, σ, f of voxel i at 3i, 3i + 1, 3i + 2 (empty when all are constant).
+  std::vector<double> Packed;
   std::array<bool, 3> Constant{ { true, true, true } };
   std::array<double, 3> ConstantValue{ { 1.0, 0.0, 0.0 } };
   bool SourceIsZero = true;
