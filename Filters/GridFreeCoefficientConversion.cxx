@@ -1,5 +1,9 @@
 #include "GridFreeCoefficientConversion.h"
 
+#include "GridFreeBoundaryAssembly.h"
+#include "GridFreeExpressionCoefficients.h"
+#include "GridFreeSourceConversion.h"
+
 #include <gridfree/coefficients/ImageCoefficients.h>
 
 #include "vtkDataArray.h"
@@ -116,24 +120,56 @@ bool ResolveCoefficientArrays(vtkObject* self, const SolveSettings& settings,
                                        "term (2), with Diffusion From Array, Absorption From "
                                        "Array or Source Term From Array on.");
   }
-  if (!inputs.DiffusionArray &&
+  // The expressions that give a coefficient no array gives must parse to
+  // numbers; those an array overrides are reported as unused.
+  const struct
+  {
+    const char* Property;
+    const std::string& Text;
+    vtkDataArray* Array;
+    bool Adds; // f's expression adds to the array's
+  } expressions[] = {
+    { "DiffusionExpression", settings.DiffusionExpression, inputs.DiffusionArray, false },
+    { "AbsorptionExpression", settings.AbsorptionExpression, inputs.AbsorptionArray, false },
+    { "SourceExpression", settings.SourceExpression, inputs.CoefficientSourceArray, true },
+  };
+  for (const auto& e : expressions)
+  {
+    if (e.Text.empty())
+    {
+      continue;
+    }
+    if (e.Array && !e.Adds)
+    {
+      vtkWarningWithObjectMacro(self, << "The " << e.Property << " '" << e.Text
+                                      << "' is not used: the array '"
+                                      << (e.Array->GetName() ? e.Array->GetName() : "")
+                                      << "' gives that coefficient.");
+      continue;
+    }
+    std::string reason;
+    if (!CheckSourceExpression(e.Text, reason))
+    {
+      vtkErrorWithObjectMacro(self, << "The " << e.Property << " '" << e.Text
+                                    << "' cannot be used: " << reason << ".");
+      return false;
+    }
+  }
+  const bool alphaExpression = !settings.DiffusionExpression.empty();
+  const bool sigmaExpression = !settings.AbsorptionExpression.empty();
+  if (!inputs.DiffusionArray && !alphaExpression &&
     !(settings.DiffusionCoefficient > 0.0 && std::isfinite(settings.DiffusionCoefficient)))
   {
     vtkErrorWithObjectMacro(self, << "DiffusionCoefficient must be positive and finite (got "
                                   << settings.DiffusionCoefficient << ").");
     return false;
   }
-  if (!inputs.AbsorptionArray &&
+  if (!inputs.AbsorptionArray && !sigmaExpression &&
     !(settings.AbsorptionCoefficient >= 0.0 && std::isfinite(settings.AbsorptionCoefficient)))
   {
     vtkErrorWithObjectMacro(self, << "AbsorptionCoefficient must be finite and >= 0 (got "
                                   << settings.AbsorptionCoefficient << ").");
     return false;
-  }
-  if (!settings.SourceExpression.empty())
-  {
-    vtkWarningWithObjectMacro(self, << "SourceExpression is ignored with varying coefficients: "
-                                       "f comes from the Source input's array (input array 2).");
   }
   return true;
 }
@@ -165,8 +201,12 @@ std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemI
     }
   }
   using Coefficient = typename ImageCoefficients<DIM>::Coefficient;
-  Coefficient alpha{ {}, settings.DiffusionCoefficient };
-  Coefficient sigma{ {}, settings.AbsorptionCoefficient };
+  // A constant an expression replaces is never read: 1 and 0 keep the base
+  // field valid.
+  std::array<std::string, 3> expressions = { in.DiffusionArray ? "" : settings.DiffusionExpression,
+    in.AbsorptionArray ? "" : settings.AbsorptionExpression, settings.SourceExpression };
+  Coefficient alpha{ {}, expressions[0].empty() ? settings.DiffusionCoefficient : 1.0 };
+  Coefficient sigma{ {}, expressions[1].empty() ? settings.AbsorptionCoefficient : 0.0 };
   Coefficient source{ {}, 0.0 };
   vtkDataArray* chosen[3] = { in.DiffusionArray, in.AbsorptionArray, in.CoefficientSourceArray };
   Coefficient* coefficients[3] = { &alpha, &sigma, &source };
@@ -199,15 +239,35 @@ std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemI
       reason = text.str();
       return nullptr;
     }
+    std::shared_ptr<const CoefficientField<DIM>> chosen = field;
+    if (!expressions[0].empty() || !expressions[1].empty() || !expressions[2].empty())
+    {
+      chosen = std::make_shared<ExpressionCoefficients<DIM>>(
+        field, expressions, ProblemPlaneZ<DIM>(in), 1e-4 * (domain.Max - domain.Min).norm());
+    }
     auto model = std::make_shared<CoefficientModel<DIM>>();
-    model->Majorant = std::make_shared<ScreeningBoundGrid<DIM>>(*field, domain.Min, domain.Max,
+    model->Majorant = std::make_shared<ScreeningBoundGrid<DIM>>(*chosen, domain.Min, domain.Max,
       typename ScreeningBoundGrid<DIM>::Settings());
-    model->Field = std::move(field);
+    model->Field = std::move(chosen);
     return model;
   }
   catch (const std::invalid_argument& e)
   {
     reason = e.what();
+    // Name the expression a bad value came from.
+    const char* properties[3] = { "DiffusionExpression", "AbsorptionExpression",
+      "SourceExpression" };
+    const char* symbols[3] = { "alpha", "sigma", "the source f" };
+    for (int c = 0; c < 3; ++c)
+    {
+      if (!expressions[static_cast<std::size_t>(c)].empty() &&
+        reason.find(symbols[c]) != std::string::npos)
+      {
+        reason += std::string(" (") + (c == 2 ? "f" : symbols[c]) + " is the " + properties[c] + " '" +
+          expressions[static_cast<std::size_t>(c)] + "')";
+        break;
+      }
+    }
     return nullptr;
   }
 }

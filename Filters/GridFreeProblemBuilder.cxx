@@ -314,6 +314,11 @@ struct ProblemBuilder::Internals
     {
       AppendDouble(v, key);
     }
+    for (const std::string* text :
+      { &s.DiffusionExpression, &s.AbsorptionExpression, &s.SourceExpression })
+    {
+      key.push_back(static_cast<std::uint64_t>(std::hash<std::string>{}(*text)));
+    }
     for (int i = 0; i < DIM; ++i)
     {
       AppendDouble(domain.Min[i], key);

@@ -39,6 +39,8 @@ inline void PrintProblemSettings(std::ostream& os, vtkIndent indent, const Solve
   os << indent << "DiffusionFromArray: " << onOff(s.DiffusionFromArray) << "\n";
   os << indent << "AbsorptionFromArray: " << onOff(s.AbsorptionFromArray) << "\n";
   os << indent << "SourceTermFromArray: " << onOff(s.SourceTermFromArray) << "\n";
+  os << indent << "DiffusionExpression: " << text(s.DiffusionExpression) << "\n";
+  os << indent << "AbsorptionExpression: " << text(s.AbsorptionExpression) << "\n";
   os << indent << "SourceExpression: " << text(s.SourceExpression) << "\n";
   os << indent << "SourceSampling: " << CodeOf(s.SourceSampling) << "\n";
   os << indent << "SourceOperator: " << CodeOf(s.SourceOperator) << "\n";

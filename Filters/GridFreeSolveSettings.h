@@ -65,6 +65,11 @@ struct SolveSettings
   double DiffusionCoefficient = 1.0;
   double AbsorptionCoefficient = 0.0;
   double CoefficientSmoothing = 0.0;
+  // α and σ as expressions in x, y, z where no array gives them (they
+  // replace the constants when not empty); f's expression is
+  // SourceExpression, added to the array's f.
+  std::string DiffusionExpression;
+  std::string AbsorptionExpression;
   // Whether α, σ and f are read from their arrays (selections 7, 8 and 2)
   // at all. On by default for C++ and Python (no selection: the constants);
   // the plugin starts them off, so that choosing the equation never takes

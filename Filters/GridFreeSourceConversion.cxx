@@ -1,13 +1,13 @@
 #include "GridFreeSourceConversion.h"
 
+#include "GridFreeParsedExpression.h"
+
 #include <gridfree/sources/ImageSource.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
-#include "vtkExprTkFunctionParser.h"
 #include "vtkGenericCell.h"
 #include "vtkImageData.h"
 #include "vtkMatrix3x3.h"
@@ -27,21 +27,6 @@ namespace gridfree
 {
 namespace
 {
-// Collects the messages of a VTK object's error events instead of printing them.
-class ErrorCollector : public vtkCommand
-{
-public:
-  static ErrorCollector* New() { return new ErrorCollector; }
-  void Execute(vtkObject*, unsigned long, void* callData) override
-  {
-    if (callData)
-    {
-      this->Message += static_cast<const char*>(callData);
-    }
-  }
-  std::string Message;
-};
-
 // The source's values as floats, `components` per point (a one-component
 // array is broadcast), so every thread reads them without VTK calls.
 std::vector<float> CopyValues(vtkDataArray* array, int components)
@@ -159,64 +144,6 @@ private:
   std::vector<double> PointValues; // one component's values at the cell's points
   int SubId = 0;
   double PCoords[3] = { 0.0, 0.0, 0.0 };
-};
-
-// One parsed expression in x, y, z (a parser is never shared by threads):
-// a scalar, or a vector written with iHat, jHat and kHat as in VTK's
-// calculator.
-class ParsedExpression
-{
-public:
-  explicit ParsedExpression(const std::string& expression)
-  {
-    this->Parser->SetFunction(expression.c_str());
-    this->Parser->SetScalarVariableValue("x", 0.0);
-    this->Parser->SetScalarVariableValue("y", 0.0);
-    this->Parser->SetScalarVariableValue("z", 0.0);
-    // Parse once, before the walks.
-    this->IsVector = this->Parser->IsVectorResult() != 0;
-    this->X = this->Parser->GetScalarVariableIndex("x");
-    this->Y = this->Parser->GetScalarVariableIndex("y");
-    this->Z = this->Parser->GetScalarVariableIndex("z");
-  }
-
-  // 1 for a scalar expression, 3 for a vector one.
-  int Components() const { return this->IsVector ? 3 : 1; }
-
-  double operator()(const std::array<double, 3>& p)
-  {
-    this->SetPoint(p);
-    return this->Parser->GetScalarResult();
-  }
-
-  // Writes Components() numbers.
-  void Evaluate(const std::array<double, 3>& p, double* out)
-  {
-    this->SetPoint(p);
-    if (this->IsVector)
-    {
-      const double* v = this->Parser->GetVectorResult();
-      out[0] = v[0];
-      out[1] = v[1];
-      out[2] = v[2];
-    }
-    else
-    {
-      out[0] = this->Parser->GetScalarResult();
-    }
-  }
-
-private:
-  void SetPoint(const std::array<double, 3>& p)
-  {
-    this->Parser->SetScalarVariableValue(this->X, p[0]);
-    this->Parser->SetScalarVariableValue(this->Y, p[1]);
-    this->Parser->SetScalarVariableValue(this->Z, p[2]);
-  }
-
-  vtkNew<vtkExprTkFunctionParser> Parser;
-  bool IsVector = false;
-  int X = 0, Y = 1, Z = 2;
 };
 
 // An expression in x, y, z; one parser per block of probe points a thread
@@ -500,73 +427,6 @@ bool ConvertConcentrated(vtkPolyData* poly, vtkDataArray* array, int components,
   }
   out.IgnoredSurfaceCells = poly->GetNumberOfPolys() + poly->GetNumberOfStrips();
   return true;
-}
-} // namespace
-
-namespace
-{
-// The parser's own words from a VTK error message ("ERROR: In FILE, line
-// N\nvtkExprTkFunctionParser (0x...): Err: 0 Type: [Syntax Error] Msg:
-// ERR201 - Undefined symbol: 'yy'\tExpression: x*yy"): the text after
-// "Msg: " up to the echoed expression, else every line but the location.
-std::string ParserReason(const std::string& message)
-{
-  const std::size_t msg = message.find("Msg: ");
-  if (msg != std::string::npos)
-  {
-    std::string text = message.substr(msg + 5);
-    const std::size_t end = text.find_first_of("\t\n");
-    text = text.substr(0, end);
-    return text.empty() ? message : text;
-  }
-  std::string text;
-  std::size_t start = 0;
-  while (start < message.size())
-  {
-    std::size_t end = message.find('\n', start);
-    if (end == std::string::npos)
-    {
-      end = message.size();
-    }
-    std::string line = message.substr(start, end - start);
-    start = end + 1;
-    if (line.empty() || line.rfind("ERROR: In ", 0) == 0)
-    {
-      continue;
-    }
-    const std::size_t object = line.find("): ");
-    if (line.rfind("vtk", 0) == 0 && object != std::string::npos)
-    {
-      line = line.substr(object + 3);
-    }
-    text += (text.empty() ? "" : "; ") + line;
-  }
-  return text.empty() ? message : text;
-}
-
-// Parses `expression` in x, y, z and tells whether it gives a scalar (1) or a
-// vector (3, with iHat, jHat, kHat); 0 with the parser's reason when it does
-// not parse.
-int ExpressionComponents(const std::string& expression, std::string& reason)
-{
-  vtkNew<vtkExprTkFunctionParser> parser;
-  vtkNew<ErrorCollector> errors;
-  parser->AddObserver(vtkCommand::ErrorEvent, errors);
-  parser->SetFunction(expression.c_str());
-  parser->SetScalarVariableValue("x", 0.0);
-  parser->SetScalarVariableValue("y", 0.0);
-  parser->SetScalarVariableValue("z", 0.0);
-  if (parser->IsScalarResult())
-  {
-    return 1;
-  }
-  if (parser->IsVectorResult())
-  {
-    return 3;
-  }
-  reason = errors->Message.empty() ? std::string("it does not evaluate to a number or a vector")
-                                   : ParserReason(errors->Message);
-  return 0;
 }
 } // namespace
 

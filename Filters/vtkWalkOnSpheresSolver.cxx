@@ -231,6 +231,8 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeDirectionalDerivative,
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryValueExpression)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryLaplacianExpression)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, SourceExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, DiffusionExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, AbsorptionExpression)
 GRIDFREE_IMPLICIT_BOUNDARY_ACCESSORS(vtkWalkOnSpheresSolver)
 
 void vtkWalkOnSpheresSolver::SetDerivativeDirection(double x, double y, double z)

@@ -325,8 +325,10 @@ public:
    * σ = 0 is the Poisson equation Δu = f). α, σ and f come from point
    * arrays of a vtkImageData on the Source port that covers the boundary:
    * input arrays 7 (α), 8 (σ) and 2 (f), each chosen by name with
-   * SetInputArrayToProcess; without a choice α is DiffusionCoefficient
-   * (default 1), σ is AbsorptionCoefficient (default 0) and f is 0. The
+   * SetInputArrayToProcess; without a choice α is DiffusionExpression or,
+   * when that is empty, DiffusionCoefficient (default 1), σ is
+   * AbsorptionExpression or AbsorptionCoefficient (default 0), and f is
+   * SourceExpression (added to the array's f when both are given) or 0. The
    * arrays are smoothed by a Gaussian of standard deviation
    * CoefficientSmoothing (world units, default 0) and by their cubic
    * B-spline (standard deviation h/√3 for a spacing h), which makes α twice
@@ -340,6 +342,23 @@ public:
   double GetAbsorptionCoefficient();
   virtual void SetCoefficientSmoothing(double value);
   double GetCoefficientSmoothing();
+  ///@}
+
+  ///@{
+  /**
+   * The equation with varying coefficients: α and σ as expressions in x, y
+   * and z in the syntax of VTK's ExprTk function parser, as SourceExpression
+   * (e.g. "0.5 + 0.2*tanh((z - 40)/5)"), used where no array gives them;
+   * empty (the default) for the constants. They are evaluated where the
+   * walks need them, not smoothed: α must be positive and twice
+   * differentiable (its gradient and Laplacian are central differences of
+   * the expression with a step of 1e-4 of the boundary's diagonal), σ at
+   * least 0. In 2D they are evaluated in the plane of the boundary.
+   */
+  virtual void SetDiffusionExpression(const char* expression); // null clears it
+  const char* GetDiffusionExpression();
+  virtual void SetAbsorptionExpression(const char* expression); // null clears it
+  const char* GetAbsorptionExpression();
   ///@}
 
   ///@{
@@ -374,7 +393,8 @@ public:
   /**
    * A source term f(x, y, z) added to the Source input's, in the syntax of
    * VTK's ExprTk function parser, e.g. "exp(-(x^2+y^2+z^2))" (default empty:
-   * none). Used by the Poisson and screened Poisson equations. A vector
+   * none). Used by the Poisson, screened Poisson and varying-coefficient
+   * equations (for the last, a number: f in div(α grad u) − σu = f). A vector
    * written with iHat, jHat and kHat as in VTK's calculator (e.g.
    * "y*iHat - x*jHat") gives one source per component of a 3-component
    * solution, or the vector field X of SourceOperator.

@@ -98,6 +98,8 @@ int vtkWalkOnSpheresSolverDriver::GetCsgOperation()
 }
 
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, DiffusionExpression)
+GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, AbsorptionExpression)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, BoundaryValueExpression)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolverDriver, BoundaryLaplacianExpression)
 GRIDFREE_IMPLICIT_BOUNDARY_ACCESSORS(vtkWalkOnSpheresSolverDriver)

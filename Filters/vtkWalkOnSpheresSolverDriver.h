@@ -89,11 +89,15 @@ public:
   bool GetAbsorptionFromArray();
   void SetSourceTermFromArray(bool fromArray);
   bool GetSourceTermFromArray();
+  void SetDiffusionExpression(const char* expression);
+  const char* GetDiffusionExpression();
+  void SetAbsorptionExpression(const char* expression);
+  const char* GetAbsorptionExpression();
   ///@}
 
   /**
-   * The source term f as an expression in x, y, z (Poisson and screened
-   * Poisson), added to the Source input's.
+   * The source term f as an expression in x, y, z (Poisson, screened
+   * Poisson and varying coefficients), added to the Source input's.
    */
   void SetSourceExpression(const char* expression);
   const char* GetSourceExpression();

@@ -1,6 +1,6 @@
 """Checks the solve saved by varying_coefficients.xml: the equation with
-varying coefficients took Conductivity, the absorption 1 and Heat as the
-panel set them (not the image's active CT values), so the estimates agree
+varying coefficients took Conductivity, the Absorption Expression 1 and Heat
+as the panel set them (not the image's active CT values), so the estimates agree
 with u = x² + z + 1/2 within 5 standard errors at every point of the plane
 (the cubic B-spline reproduces the linear α; for this quadratic f its error
 is h²/3 = 0.003, which moves u by about 1e-4). Any coefficient left at its
