@@ -176,7 +176,8 @@ bool ResolveCoefficientArrays(vtkObject* self, const SolveSettings& settings,
 
 template <int DIM>
 std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemInputs& in,
-  const SolveSettings& settings, const BoundingBox<DIM>& domain, std::string& reason)
+  const SolveSettings& settings, const BoundingBox<DIM>& domain, std::string& reason,
+  PreparationMonitor* monitor)
 {
   VoxelGrid grid;
   std::array<std::string, 3> names = { "DiffusionCoefficient", "AbsorptionCoefficient",
@@ -222,7 +223,7 @@ std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemI
   try
   {
     auto field = std::make_shared<ImageCoefficients<DIM>>(grid, std::move(alpha),
-      std::move(sigma), std::move(source), settings.CoefficientSmoothing, names);
+      std::move(sigma), std::move(source), settings.CoefficientSmoothing, names, monitor);
     if (in.CoefficientImage && !field->Covers(domain.Min, domain.Max))
     {
       double bounds[6];
@@ -246,8 +247,10 @@ std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemI
         field, expressions, ProblemPlaneZ<DIM>(in), 1e-4 * (domain.Max - domain.Min).norm());
     }
     auto model = std::make_shared<CoefficientModel<DIM>>();
-    model->Majorant = std::make_shared<ScreeningBoundGrid<DIM>>(*chosen, domain.Min, domain.Max,
-      typename ScreeningBoundGrid<DIM>::Settings());
+    typename ScreeningBoundGrid<DIM>::Settings bounds;
+    bounds.Monitor = monitor;
+    model->Majorant =
+      std::make_shared<ScreeningBoundGrid<DIM>>(*chosen, domain.Min, domain.Max, bounds);
     model->Field = std::move(chosen);
     return model;
   }
@@ -273,7 +276,9 @@ std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemI
 }
 
 template std::shared_ptr<const CoefficientModel<2>> MakeCoefficientModel<2>(
-  const ProblemInputs&, const SolveSettings&, const BoundingBox<2>&, std::string&);
+  const ProblemInputs&, const SolveSettings&, const BoundingBox<2>&, std::string&,
+  PreparationMonitor*);
 template std::shared_ptr<const CoefficientModel<3>> MakeCoefficientModel<3>(
-  const ProblemInputs&, const SolveSettings&, const BoundingBox<3>&, std::string&);
+  const ProblemInputs&, const SolveSettings&, const BoundingBox<3>&, std::string&,
+  PreparationMonitor*);
 } // namespace gridfree

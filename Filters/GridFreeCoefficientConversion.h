@@ -12,6 +12,7 @@
 #include "GridFreeSolveSettings.h"
 
 #include <gridfree/coefficients/ScreeningMajorant.h>
+#include <gridfree/execution/PreparationMonitor.h>
 #include <gridfree/geometry/BoundingBox.h>
 
 #include <memory>
@@ -29,15 +30,20 @@ bool ResolveCoefficientArrays(vtkObject* reporter, const SolveSettings& settings
 
 // The coefficients and their majorant over `domain` (the boundary's box);
 // null with `reason` set when the image does not cover the domain or holds
-// unusable values.
+// unusable values. VTK-free once the arrays are copied, so it may run on a
+// thread of its own while `monitor` (may be null) reports its progress and
+// stops it (it then throws PreparationStopped).
 template <int DIM>
 std::shared_ptr<const CoefficientModel<DIM>> MakeCoefficientModel(const ProblemInputs& in,
-  const SolveSettings& settings, const BoundingBox<DIM>& domain, std::string& reason);
+  const SolveSettings& settings, const BoundingBox<DIM>& domain, std::string& reason,
+  PreparationMonitor* monitor = nullptr);
 
 extern template std::shared_ptr<const CoefficientModel<2>> MakeCoefficientModel<2>(
-  const ProblemInputs&, const SolveSettings&, const BoundingBox<2>&, std::string&);
+  const ProblemInputs&, const SolveSettings&, const BoundingBox<2>&, std::string&,
+  PreparationMonitor*);
 extern template std::shared_ptr<const CoefficientModel<3>> MakeCoefficientModel<3>(
-  const ProblemInputs&, const SolveSettings&, const BoundingBox<3>&, std::string&);
+  const ProblemInputs&, const SolveSettings&, const BoundingBox<3>&, std::string&,
+  PreparationMonitor*);
 } // namespace gridfree
 
 #endif

@@ -8,6 +8,10 @@
 #include "GridFreeProblemInputs.h"
 #include "GridFreeSourceConversion.h"
 
+#include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/execution/PreparationMonitor.h>
+
+#include "vtkAlgorithm.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
@@ -293,6 +297,8 @@ struct ProblemBuilder::Internals
   // arrays, the constants, the smoothing and the domain stay the same (the
   // smoothing and the bound grid are the expensive part of a build).
   std::vector<std::uint64_t> CoefficientKey;
+  // Whether the last preparation of the coefficients was aborted.
+  bool PreparationAborted = false;
   std::shared_ptr<const CoefficientModel<2>> Coefficients2;
   std::shared_ptr<const CoefficientModel<3>> Coefficients3;
 
@@ -339,11 +345,65 @@ struct ProblemBuilder::Internals
       return kept;
     }
     std::string reason;
-    kept = MakeCoefficientModel<DIM>(in, s, domain, reason);
+    bool stopped = false;
+    PreparationMonitor monitor;
+    auto prepare = [&] {
+      try
+      {
+        kept = MakeCoefficientModel<DIM>(in, s, domain, reason, &monitor);
+      }
+      catch (const PreparationStopped&)
+      {
+        kept = nullptr;
+        stopped = true;
+      }
+    };
+    if (vtkAlgorithm* algorithm = vtkAlgorithm::SafeDownCast(self))
+    {
+      // The smoothing and the bound grid take about a second on a small CT
+      // and grow with the image: on a thread of their own, while this one
+      // reports their progress under a label of their own and passes an
+      // Abort on to them.
+      const bool hadText = algorithm->GetProgressText() != nullptr;
+      const std::string before = hadText ? algorithm->GetProgressText() : "";
+      std::string name = before;
+      if (name.empty())
+      {
+        name = algorithm->GetClassName();
+        name = name.rfind("vtk", 0) == 0 ? name.substr(3) : name;
+      }
+      algorithm->SetProgressText((name + ", preparing the coefficients").c_str());
+      algorithm->UpdateProgress(0.0);
+      double shown = 0.0;
+      RunWhileReporting(prepare, [&](double) {
+        shown = std::max(shown, monitor.Fraction());
+        algorithm->UpdateProgress(shown);
+        if (algorithm->GetAbortExecute())
+        {
+          monitor.Stop = true;
+        }
+      });
+      algorithm->SetProgressText(hadText ? before.c_str() : nullptr);
+    }
+    else
+    {
+      prepare();
+    }
+    this->PreparationAborted = stopped;
     if (!kept)
     {
       this->CoefficientKey.clear();
-      vtkErrorWithObjectMacro(self, << "Cannot use the coefficients: " << reason << ".");
+      if (stopped)
+      {
+        vtkWarningWithObjectMacro(self, << "The solve was aborted while the coefficients were "
+                                           "prepared (smoothing the image and bounding the "
+                                           "screening): nothing was solved. Apply again to "
+                                           "start over.");
+      }
+      else
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use the coefficients: " << reason << ".");
+      }
       return nullptr;
     }
     this->CoefficientKey = std::move(key);
@@ -808,7 +868,9 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
 bool ProblemBuilder::Build(vtkObject* self, BuiltProblem& problem)
 {
   this->LastBoundaryBuilt = false;
+  this->LastBuildAborted = false;
   Internals& state = *this->Internal;
+  state.PreparationAborted = false;
   if (!state.Resolved)
   {
     vtkErrorWithObjectMacro(self, << "No problem to build: its inputs were not resolved.");
@@ -825,8 +887,10 @@ bool ProblemBuilder::Build(vtkObject* self, BuiltProblem& problem)
     vtkErrorWithObjectMacro(self, << "Walk on spheres failed: " << e.what());
     ok = false;
   }
-  if (!ok)
+  this->LastBuildAborted = !ok && state.PreparationAborted;
+  if (!ok && !this->LastBuildAborted)
   {
+    // (An abort keeps the boundary: only the coefficients were stopped.)
     this->Forget();
   }
   return ok;

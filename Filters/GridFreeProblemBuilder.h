@@ -98,6 +98,10 @@ public:
 
   // Whether the last Build built the boundary (false: reused).
   bool GetLastBoundaryBuilt() const { return this->LastBoundaryBuilt; }
+  // Whether the last Build failed because the filter's Abort stopped the
+  // preparation of the varying coefficients (a warning, not an error, was
+  // reported).
+  bool GetLastBuildAborted() const { return this->LastBuildAborted; }
   // Frees the kept boundary.
   void Forget();
 
@@ -105,6 +109,7 @@ private:
   struct Internals;
   std::unique_ptr<Internals> Internal;
   bool LastBoundaryBuilt = false;
+  bool LastBuildAborted = false;
 };
 } // namespace gridfree
 

@@ -121,7 +121,9 @@ int vtkWalkOnSpheresAdaptiveSampler::RequestData(
   // The problem, built once for all the rounds.
   if (!this->BuildProblem(boundary, source, domain))
   {
-    return 0;
+    // An Abort while the coefficients were prepared was reported as a
+    // warning: an empty output, not a failed pipeline.
+    return this->GetAbortExecute() ? 1 : 0;
   }
 
   // The batches of the rounds: each estimates at the candidates `ids`, keeps

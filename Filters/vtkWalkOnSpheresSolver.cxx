@@ -600,6 +600,17 @@ int vtkWalkOnSpheresSolver::RequestData(
   gridfree::BuiltProblem problem;
   bool ok = builder.Build(this, problem);
   this->NoteBoundaryBuilt(builder.GetLastBoundaryBuilt());
+  if (!ok && builder.GetLastBuildAborted())
+  {
+    // Aborted before any walk (the builder's warning says so): the probe
+    // passes through without solution arrays, and the next update starts
+    // over.
+    this->Cache->Sums.Clear();
+    this->LastSolveAborted = true;
+    this->LastNumberOfWalks = 0;
+    this->UpdateProgress(1.0);
+    return 1;
+  }
   if (ok)
   {
     const std::vector<std::array<double, 3>> points = gridfree::PointsOf(probe);

@@ -118,7 +118,9 @@ int vtkWalkOnSpheresStreamTracer::RequestData(
   // around the seeds).
   if (!this->BuildProblem(boundary, source, seeds))
   {
-    return 0;
+    // An Abort while the coefficients were prepared was reported as a
+    // warning: an empty output, not a failed pipeline.
+    return this->GetAbortExecute() ? 1 : 0;
   }
   const std::string valueName = this->GetSolutionName();
   double progress = 0.0;

@@ -21,6 +21,7 @@
 #define GRIDFREE_COEFFICIENTS_IMAGE_COEFFICIENTS_H
 
 #include <gridfree/coefficients/VaryingCoefficients.h>
+#include <gridfree/execution/PreparationMonitor.h>
 #include <gridfree/math/Vector.h>
 
 #include <tbb/blocked_range.h>
@@ -53,13 +54,25 @@ struct VoxelGrid
 
 // Separable Gaussian smoothing of one array on the grid, standard deviation
 // `width` in world units, truncated at 4 widths and normalized, the edge
-// voxels repeated beyond the image. width ≤ 0 leaves it unchanged.
-inline std::vector<double> SmoothOnGrid(
-  const VoxelGrid& grid, std::vector<double> values, double width)
+// voxels repeated beyond the image. width ≤ 0 leaves it unchanged. A
+// monitor (may be null) counts the voxels of each pass and can stop it
+// (PreparationStopped).
+inline std::vector<double> SmoothOnGrid(const VoxelGrid& grid, std::vector<double> values,
+  double width, PreparationMonitor* monitor = nullptr)
 {
   if (!(width > 0.0))
   {
     return values;
+  }
+  if (monitor)
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (grid.Dims[axis] >= 2)
+      {
+        monitor->Expect(values.size());
+      }
+    }
   }
   std::vector<double> scratch(values.size());
   for (int axis = 0; axis < 3; ++axis)
@@ -90,6 +103,10 @@ inline std::vector<double> SmoothOnGrid(
     // Every output voxel is its own sum, the same on any thread count.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 4096),
       [&](const tbb::blocked_range<std::size_t>& range) {
+        if (monitor && monitor->Stopping())
+        {
+          return;
+        }
         for (std::size_t index = range.begin(); index != range.end(); ++index)
         {
           const int i = static_cast<int>((index / stride) % static_cast<std::size_t>(n));
@@ -102,7 +119,12 @@ inline std::vector<double> SmoothOnGrid(
           }
           scratch[index] = sum;
         }
+        if (monitor)
+        {
+          monitor->Finished(range.size());
+        }
       });
+    ThrowIfStopped(monitor);
     values.swap(scratch);
   }
   return values;
@@ -121,10 +143,12 @@ public:
 
   // Smooths each array by `smoothingWidth` (see above). Throws for arrays
   // of the wrong size, non-finite values, α ≤ 0 or σ < 0, naming the array
-  // (by `names`: α, σ, f) and the voxel.
+  // (by `names`: α, σ, f) and the voxel; PreparationStopped when `monitor`
+  // (may be null) stops the smoothing.
   ImageCoefficients(const VoxelGrid& grid, Coefficient alpha, Coefficient absorption,
     Coefficient source, double smoothingWidth,
-    const std::array<std::string, 3>& names = { "alpha", "sigma", "f" })
+    const std::array<std::string, 3>& names = { "alpha", "sigma", "f" },
+    PreparationMonitor* monitor = nullptr)
     : Grid(grid)
   {
     for (int axis = 0; axis < 3; ++axis)
@@ -156,7 +180,7 @@ public:
       {
         this->Check(names[c], c, k.Values[i], static_cast<std::ptrdiff_t>(i));
       }
-      const std::vector<double> smoothed = SmoothOnGrid(grid, std::move(k.Values), smoothingWidth);
+      const std::vector<double> smoothed = SmoothOnGrid(grid, std::move(k.Values), smoothingWidth, monitor);
       this->Packed.resize(3 * grid.Count());
       for (std::size_t i = 0; i < smoothed.size(); ++i)
       {

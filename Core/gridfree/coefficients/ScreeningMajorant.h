@@ -26,8 +26,10 @@
 #define GRIDFREE_COEFFICIENTS_SCREENING_MAJORANT_H
 
 #include <gridfree/coefficients/VaryingCoefficients.h>
+#include <gridfree/execution/PreparationMonitor.h>
 #include <gridfree/math/Vector.h>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -118,6 +120,9 @@ public:
     int Cells = 32;            // finest cells per axis (rounded up to a power of 2)
     int SamplesPerCell = 3;    // lattice intervals per cell and axis
     double Margin = 0.25;
+    // Counts the lattice points sampled and can stop the sampling
+    // (PreparationStopped); may be null.
+    PreparationMonitor* Monitor = nullptr;
   };
 
   ScreeningBoundGrid(const CoefficientField<DIM>& field, const Vec<DIM>& boxMin,
@@ -155,18 +160,36 @@ public:
       }
       return x;
     };
-    tbb::parallel_for(std::size_t(0), latticePoints, [&](std::size_t index) {
-      CoefficientSample<DIM> c;
-      field.Evaluate(pointOf(index), c);
-      sampled[index] = Transform(c).Screening;
-      if (!CoefficientsUsable(c) || !std::isfinite(sampled[index]))
-      {
-        std::size_t seen = firstBad.load();
-        while (index < seen && !firstBad.compare_exchange_weak(seen, index))
+    PreparationMonitor* monitor = settings.Monitor;
+    if (monitor)
+    {
+      monitor->Expect(latticePoints);
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, latticePoints, 256),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        if (monitor && monitor->Stopping())
         {
+          return;
         }
-      }
-    });
+        for (std::size_t index = range.begin(); index != range.end(); ++index)
+        {
+          CoefficientSample<DIM> c;
+          field.Evaluate(pointOf(index), c);
+          sampled[index] = Transform(c).Screening;
+          if (!CoefficientsUsable(c) || !std::isfinite(sampled[index]))
+          {
+            std::size_t seen = firstBad.load();
+            while (index < seen && !firstBad.compare_exchange_weak(seen, index))
+            {
+            }
+          }
+        }
+        if (monitor)
+        {
+          monitor->Finished(range.size());
+        }
+      });
+    ThrowIfStopped(monitor);
     if (firstBad.load() < latticePoints)
     {
       const Vec<DIM> x = pointOf(firstBad.load());

@@ -162,3 +162,23 @@ TEST(ImageCoefficients, RefusesUnusableArrays)
   EXPECT_TRUE(fine.Covers(Vec<3>(-0.3, 0.1, 0.2), Vec<3>(0.0, 0.4, 0.28)));
   EXPECT_FALSE(fine.Covers(Vec<3>(-0.3, 0.1, 0.2), Vec<3>(0.0, 0.4, 0.3)));
 }
+
+TEST(ImageCoefficients, SmoothingCountsItsVoxelsAndStopsWhenAsked)
+{
+  const VoxelGrid g = Grid(20, 10, 6, 0.1);
+  std::vector<double> alpha(g.Count(), 1.0), sigma(g.Count(), 0.5);
+  // Two arrays, three axes each: every voxel counted six times.
+  PreparationMonitor monitor;
+  ImageCoefficients<3>(g, { alpha, 0.0 }, { sigma, 0.0 }, { {}, 0.0 }, 0.15,
+    { "alpha", "sigma", "f" }, &monitor);
+  EXPECT_EQ(monitor.Total.load(), 6 * g.Count());
+  EXPECT_EQ(monitor.Done.load(), monitor.Total.load());
+  EXPECT_EQ(monitor.Fraction(), 1.0);
+  // Asked to stop: it throws rather than leave a half-smoothed image.
+  PreparationMonitor stopped;
+  stopped.Stop = true;
+  EXPECT_THROW(ImageCoefficients<3>(g, { alpha, 0.0 }, { sigma, 0.0 }, { {}, 0.0 }, 0.15,
+                 { "alpha", "sigma", "f" }, &stopped),
+    PreparationStopped);
+  EXPECT_EQ(stopped.Done.load(), 0u);
+}

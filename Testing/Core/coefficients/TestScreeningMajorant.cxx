@@ -121,3 +121,29 @@ TEST(ScreeningMajorant, NamesTheUnusableCoefficient)
     EXPECT_NE(message.find("at (0, 0, 0.760417)"), std::string::npos) << message;
   }
 }
+
+TEST(ScreeningMajorant, SamplingCountsItsLatticeAndStopsWhenAsked)
+{
+  const ManufacturedField<2> field(SteepStep());
+  ScreeningBoundGrid<2>::Settings settings;
+  PreparationMonitor monitor;
+  settings.Monitor = &monitor;
+  const ScreeningBoundGrid<2> grid(field, Vec<2>(-1, -1), Vec<2>(1, 1), settings);
+  // 32 cells of 3 intervals per axis: 97² lattice points.
+  EXPECT_EQ(monitor.Total.load(), 97u * 97u);
+  EXPECT_EQ(monitor.Done.load(), 97u * 97u);
+  // The same bounds as without a monitor.
+  const ScreeningBoundGrid<2> plain(field, Vec<2>(-1, -1), Vec<2>(1, 1), {});
+  for (double radius : { 0.01, 0.3 })
+  {
+    const BallScreening a = grid.ForBall(Vec<2>(0.2, -0.1), radius);
+    const BallScreening b = plain.ForBall(Vec<2>(0.2, -0.1), radius);
+    EXPECT_EQ(a.Bound, b.Bound);
+    EXPECT_EQ(a.Floor, b.Floor);
+  }
+  PreparationMonitor stopped;
+  stopped.Stop = true;
+  settings.Monitor = &stopped;
+  EXPECT_THROW(ScreeningBoundGrid<2>(field, Vec<2>(-1, -1), Vec<2>(1, 1), settings),
+    PreparationStopped);
+}
