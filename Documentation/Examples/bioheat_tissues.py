@@ -145,12 +145,13 @@ output.PointData.append(tissue, "Tissue")
 
 
 def bioheat_solver(boundary, probe, tissues, constant=False, walks=512, target=0.05,
-                   smoothing=2.0, seed=0):
+                   smoothing=2.0, seed=0, constant_tissue="brain"):
     """A Walk On Spheres Solver of the steady Pennes equation for u = T − T_a
     on `probe`, the skin (`boundary`, with u in its point array U) held, and
     the gradient on: with `tissues` (tissue_arrays) as Varying Coefficients,
-    or, with constant=True, the brain's k, w and Q everywhere as the screened
-    Poisson equation (Δu − (w/k)u = −Q/k)."""
+    or, with constant=True, one tissue's k, w and Q everywhere (the brain's
+    unless `constant_tissue` names another) as the screened Poisson equation
+    (Δu − (w/k)u = −Q/k)."""
     s = pvs.WalkOnSpheresSolver(Boundary=boundary, Probe=probe)
     s.BoundaryValues = ["POINTS", "U"]
     s.ComputeGradient = 1
@@ -159,7 +160,7 @@ def bioheat_solver(boundary, probe, tissues, constant=False, walks=512, target=0
     s.KeepRunningSums = 0
     s.Seed = seed
     if constant:
-        alpha, sigma, f = coefficients_per_mm(TISSUES["brain"])
+        alpha, sigma, f = coefficients_per_mm(TISSUES[constant_tissue])
         s.Equation = "Screened Poisson"
         s.ScreeningCoefficient = sigma / alpha
         s.SourceExpression = "%.10g" % (f / alpha)

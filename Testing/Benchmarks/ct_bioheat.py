@@ -38,6 +38,9 @@ parser.add_argument("--target", type=float, default=0.05, help="standard error (
 parser.add_argument("--most", type=int, default=2048, help="the most walks per point")
 parser.add_argument("--smoothing", type=float, default=2.0, help="Gaussian width (mm)")
 parser.add_argument("--seed", type=int, default=1)
+parser.add_argument("--constant-tissue", default="brain",
+                    choices=sorted(k for k, v in bioheat_tissues.TISSUES.items() if v),
+                    help="whose k, w and Q the constant-coefficient walk takes")
 args = parser.parse_args()
 
 p = bioheat_tissues.head_inputs()
@@ -47,7 +50,8 @@ ct_array, inside, skin, tissues = p["ct_array"], p["inside"], p["skin_u"], p["ti
 def solver_of(equation):
     return bioheat_tissues.bioheat_solver(skin, inside, tissues, constant=equation == "constant",
                                           walks=args.most, target=args.target,
-                                          smoothing=args.smoothing, seed=args.seed)
+                                          smoothing=args.smoothing, seed=args.seed,
+                                          constant_tissue=args.constant_tissue)
 
 
 def row(name, s):
@@ -79,7 +83,8 @@ for equation in ("constant", "varying"):
     warm.WalksPerPoint = 1
     warm.UpdatePipeline()
     pvs.Delete(warm)
-constant = row("constant coefficients (brain's k, w, Q)", solver_of("constant"))
+constant = row("constant coefficients (%s's k, w, Q)" % args.constant_tissue,
+               solver_of("constant"))
 varying = row("varying coefficients (tissue table, %.1f mm)" % args.smoothing,
               solver_of("varying"))
 print("\ncost at equal error (seconds × mean variance): varying coefficients %.2f times the "
