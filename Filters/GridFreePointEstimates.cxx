@@ -455,7 +455,7 @@ struct ArrayStorage
                         const WalkCounters& counters, DerivativeStatus status)
     {
       this->Arrays.Store<DIM>(indices ? (*indices)[at] : at, stats, counters, layout,
-        problem.ErrorBar(stats, counters, layout), status);
+        problem.ErrorBar(stats, counters, layout, status), status);
     };
     return problem.Estimate(points, batch, storePoint, std::ref(progress), kept);
   }

@@ -120,6 +120,29 @@ def test_light_tails_are_not_flagged_and_not_announced():
     assert flags(laplace.GetOutput()) == [1] * 100
 
 
+def test_points_closer_than_epsilon_are_not_flagged_with_derivatives():
+    # On the boundary itself a point's value is g at its closest point,
+    # exactly: no spread, rightly. Its derivative walks take steps, which
+    # must not make the value's lack of spread look like a missing tail
+    # (the CT workflow's slice crosses the skin at such points).
+    boundary = sphere_boundary(lambda x, y, z: math.exp(x) + y)
+    on_boundary = probe([boundary.GetPoint(i) for i in range(0, 200, 10)])
+    for target in (0.0, 0.01):
+        solver = solver_for(boundary, on_boundary, 256, target=target)
+        solver.SetComputeGradient(True)
+        catcher = MessageCatcher(solver)
+        solver.Update()
+        output = solver.GetOutput()
+        status = output.GetPointData().GetArray("DerivativeStatus")
+        assert all(status.GetValue(i) == 1 for i in range(20))
+        assert output.GetPointData().GetArray("T_Variance").GetRange() == (0.0, 0.0)
+        assert flags(output) == [1] * 20, target
+        assert catcher.warnings == [], catcher.warning_text()
+        if target > 0.0:
+            # The exact value meets the target at the first check.
+            assert field(output, "TotalWalks") < 20 * 256, field(output, "TotalWalks")
+
+
 def test_target_mode_walks_on_at_unreliable_points():
     boundary = sphere_boundary(lambda x, y, z: math.exp(10.0 * x))
     solver = solver_for(boundary, LINE, 1024, screening=100.0, target=1e300)

@@ -288,8 +288,8 @@ private:
               {
                 // Stopped at a looser target: it stays stopped only if it
                 // meets this one where it stands.
-                stopped = PointWalks::MeetsTarget(
-                  stats, counters, target, valueComponents, layout.Weight, spreadPossible);
+                stopped = PointWalks::MeetsTarget(stats, counters, target, valueComponents,
+                  layout.Weight, spreadPossible, status);
               }
               // The point's own count: kept sums differ after an abort.
               const int from = static_cast<int>(stats.SampleCount());
@@ -329,7 +329,7 @@ private:
               counts[static_cast<int>(status)] += 1;
             }
             sum.Add(counters);
-            unreliable += this->P.ErrorBar(stats, counters, layout).Reliable ? 0 : 1;
+            unreliable += this->P.ErrorBar(stats, counters, layout, status).Reliable ? 0 : 1;
             this->Sink(i, stats, counters, status);
             this->Sunk[i] = 1;
             if (!ran)
@@ -471,7 +471,7 @@ private:
         counts[static_cast<int>(status)] += 1;
       }
       sum.Add(counters);
-      unreliable += this->P.ErrorBar(stats, counters, layout).Reliable ? 0 : 1;
+      unreliable += this->P.ErrorBar(stats, counters, layout, status).Reliable ? 0 : 1;
       this->Sink(i, stats, counters, status);
       this->Finished.fetch_add(1, std::memory_order_relaxed);
     }
@@ -505,7 +505,12 @@ private:
         counts[status] += 1;
       }
       sum.Add(counters);
-      unreliable += this->P.ErrorBar(stats, counters, this->Summary.Layout).Reliable ? 0 : 1;
+      unreliable += this->P
+                      .ErrorBar(stats, counters, this->Summary.Layout,
+                        static_cast<DerivativeStatus>(status))
+                      .Reliable
+        ? 0
+        : 1;
       this->Sink(i, stats, counters, static_cast<DerivativeStatus>(status));
       this->Sunk[i] = 1;
     }

@@ -113,7 +113,7 @@ struct PointWalks
       {
         break; // the maximum came first: no check here
       }
-      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary))
+      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary, status))
       {
         stopped = true;
         break;
@@ -124,8 +124,11 @@ struct PointWalks
 
   // Whether a point's walks so far reach the target standard error with a
   // reliable error bar: where EstimateToTarget stops a point.
+  // (A point closer than ε, DerivativeStatus::OneSided, has an exact value:
+  // see Problem::SpreadPossible.)
   static bool MeetsTarget(const RunningStatistics& stats, const WalkCounters& counters,
-    double target, int valueComponents, int weightSlot, bool dataVary)
+    double target, int valueComponents, int weightSlot, bool dataVary,
+    DerivativeStatus status = DerivativeStatus::Interior)
   {
     const double targetVariance = target * target;
     bool reached = true;
@@ -135,7 +138,8 @@ struct PointWalks
       reached = stats.VarianceOfMean(c) <= targetVariance;
     }
     return reached &&
-      CheckErrorBar(stats, 0, valueComponents, weightSlot, dataVary && counters.Steps > 0)
+      CheckErrorBar(stats, 0, valueComponents, weightSlot,
+        dataVary && counters.Steps > 0 && status != DerivativeStatus::OneSided)
         .Reliable;
   }
 

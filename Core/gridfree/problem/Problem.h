@@ -208,18 +208,22 @@ public:
   // Whether a finished point's error bar can be trusted, from its
   // statistics and counters (ErrorBarReliability.h): what the sink can
   // report per point.
-  ErrorBarCheck ErrorBar(
-    const RunningStatistics& stats, const WalkCounters& counters, const SampleLayout& layout) const
+  ErrorBarCheck ErrorBar(const RunningStatistics& stats, const WalkCounters& counters,
+    const SampleLayout& layout, DerivativeStatus status = DerivativeStatus::Interior) const
   {
     return CheckErrorBar(stats, layout.Value, this->SolutionComponents(), layout.Weight,
-      this->SpreadPossible(counters));
+      this->SpreadPossible(counters, status));
   }
 
   // Whether the walks of a point with these counters could have given
-  // different values: they took steps, and the data are not constant.
-  bool SpreadPossible(const WalkCounters& counters) const
+  // different values: they took steps, and the data are not constant. A
+  // point closer than ε (DerivativeStatus::OneSided) takes g at its closest
+  // point as its value, exactly, whatever steps its derivative walks took:
+  // a value without spread is then no missing tail.
+  bool SpreadPossible(
+    const WalkCounters& counters, DerivativeStatus status = DerivativeStatus::Interior) const
   {
-    return counters.Steps > 0 && !this->ConstantData;
+    return counters.Steps > 0 && !this->ConstantData && status != DerivativeStatus::OneSided;
   }
 
   // Runs request.WalksPerPoint walks at every point (the first DIM of its
@@ -270,7 +274,7 @@ public:
         out.Counters[i] = counters;
         out.Status[i] = status;
         out.Finished[i] = 1;
-        out.ErrorBars[i] = this->ErrorBar(stats, counters, layout);
+        out.ErrorBars[i] = this->ErrorBar(stats, counters, layout, status);
       },
       progress, kept);
     return out;

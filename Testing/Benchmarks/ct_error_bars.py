@@ -1,0 +1,84 @@
+"""Benchmark (not part of the tests): are the error bars of the CT
+workflow's default solve (Documentation/Examples/ct_workflow.py: 4,096 slice
+points, 128 walks, gradient on) right where the solver flags them
+unreliable, and where it does not?
+
+The points flagged by the default solve, and a sample of unflagged ones,
+are solved again with --reference walks (the reference) and with 128 walks
+for each of --seeds seeds; z = (T − reference) / sqrt(var + reference var).
+Prints, for both sets, the number of z values, their mean z², the largest
+|z| and how often the 128-walk solves flagged them.
+
+    pvbatch ct_error_bars.py [--seeds 10] [--reference 32768] [--sample 150]
+"""
+import argparse
+import math
+import os
+import random
+import sys
+
+import paraview.simple as pvs
+from paraview import servermanager
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "Documentation", "Examples"))
+import ct_workflow  # noqa: E402
+
+parser = argparse.ArgumentParser()
+parser.add_argument("--seeds", type=int, default=10)
+parser.add_argument("--reference", type=int, default=32768, help="walks of the reference")
+parser.add_argument("--sample", type=int, default=150, help="unflagged points checked")
+args = parser.parse_args()
+
+p = ct_workflow.build_pipeline(os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME))
+solver = p["solver"]
+solver.UpdatePipeline()
+first = servermanager.Fetch(solver)
+data = first.GetPointData()
+reliable = data.GetArray("T_VarianceReliable")
+values = data.GetArray("T")
+flagged = [i for i in range(first.GetNumberOfPoints()) if reliable.GetValue(i) == 0]
+unflagged = [i for i in range(first.GetNumberOfPoints())
+             if reliable.GetValue(i) == 1 and not math.isnan(values.GetValue(i))]
+random.seed(3)
+ids = flagged + random.sample(unflagged, min(args.sample, len(unflagged)))
+
+points = vtkPoints()
+for i in ids:
+    points.InsertNextPoint(first.GetPoint(i))
+cloud = vtkPolyData()
+cloud.SetPoints(points)
+producer = pvs.PVTrivialProducer()
+producer.GetClientSideObject().SetOutput(cloud)
+solver.Probe = producer
+solver.ComputeGradient = 0
+
+
+def solve(walks, seed):
+    solver.WalksPerPoint = walks
+    solver.Seed = seed
+    solver.UpdatePipeline()
+    a = servermanager.Fetch(solver).GetPointData()
+    return [(a.GetArray("T").GetValue(k), a.GetArray("T_Variance").GetValue(k),
+             a.GetArray("T_VarianceReliable").GetValue(k)) for k in range(len(ids))]
+
+
+reference = solve(args.reference, 99)
+rows = {"flagged by the default solve": ([], 0), "a sample of the unflagged": ([], 0)}
+for seed in range(1, args.seeds + 1):
+    for k, (t, v, r) in enumerate(solve(128, seed)):
+        name = "flagged by the default solve" if k < len(flagged) else "a sample of the unflagged"
+        z, n = rows[name]
+        ref, ref_var = reference[k][0], reference[k][1]
+        z.append((t - ref) / math.sqrt(v + ref_var) if v + ref_var > 0.0 else 0.0)
+        rows[name] = (z, n + (1 if r == 0 else 0))
+
+print("CT workflow, default solve: %d of %d points flagged; reference %d walks, %d seeds of 128"
+      % (len(flagged), first.GetNumberOfPoints(), args.reference, args.seeds))
+print("| points | z values | mean z² | largest |z| | flagged again |")
+print("|---|---:|---:|---:|---:|")
+for name, (z, n) in rows.items():
+    print("| %s | %d | %.2f | %.2f | %d |" % (name, len(z), math.fsum(x * x for x in z) / len(z),
+                                            max(abs(x) for x in z), n))
