@@ -161,6 +161,30 @@ public:
     }
     return true;
   }
+  // The lowest and highest value of component c a walk can read from a
+  // value table (linear interpolation on a primitive stays between its
+  // vertices' values; both sides of two-sided values); false for values
+  // from a function, or without a table.
+  bool ValueBounds(int c, double& lowest, double& highest) const
+  {
+    if (this->ValueFunction || this->Values.empty())
+    {
+      return false;
+    }
+    const std::size_t stored = static_cast<std::size_t>(this->NumberOfComponents);
+    const std::size_t own = static_cast<std::size_t>(this->Components());
+    lowest = std::numeric_limits<double>::infinity();
+    highest = -lowest;
+    for (std::size_t i = 0; i < this->Values.size(); ++i)
+    {
+      if ((i % stored) % own == static_cast<std::size_t>(c))
+      {
+        lowest = std::min(lowest, this->Values[i]);
+        highest = std::max(highest, this->Values[i]);
+      }
+    }
+    return lowest <= highest;
+  }
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
   const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }

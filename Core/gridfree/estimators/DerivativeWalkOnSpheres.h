@@ -516,6 +516,8 @@ private:
 
             if (status == DerivativeStatus::Interior)
             {
+              counters.ValueControlReach =
+                std::max(counters.ValueControlReach, weightC * bBar.norm());
               double value = weightC * (tail - linear) - this->ValueSource[c];
               if (biharmonic)
               {

@@ -103,6 +103,11 @@ struct WalkCounters
   std::uint64_t Truncated = 0;
   // Times a walk far outside was returned to the enclosing sphere.
   std::uint64_t Returns = 0;
+  // The largest amount the value's control variate (DerivativeWalkOnSpheres:
+  // C·b̄·ν, over every direction ν) could move one walk's value sample, seen
+  // over the walks: with the data's bounds, how far an unseen walk's value
+  // can lie (ErrorBarReliability.h).
+  double ValueControlReach = 0.0;
 
   double MeanSteps() const { return Walks ? double(Steps) / double(Walks) : 0.0; }
   double EscapedFraction() const { return Walks ? double(Escaped) / double(Walks) : 0.0; }
@@ -115,6 +120,7 @@ struct WalkCounters
     this->Escaped += other.Escaped;
     this->Truncated += other.Truncated;
     this->Returns += other.Returns;
+    this->ValueControlReach = std::max(this->ValueControlReach, other.ValueControlReach);
   }
 };
 

@@ -289,7 +289,7 @@ private:
                 // Stopped at a looser target: it stays stopped only if it
                 // meets this one where it stands.
                 stopped = PointWalks::MeetsTarget(stats, counters, target, valueComponents,
-                  layout.Weight, spreadPossible, status);
+                  layout.Weight, spreadPossible, status, &this->P.ErrorRule(counters));
               }
               // The point's own count: kept sums differ after an abort.
               const int from = static_cast<int>(stats.SampleCount());
@@ -299,7 +299,10 @@ private:
                 ran = stopped ||
                   PointWalks::EstimateToTarget(estimator, points[i].data(), seed, from, walks,
                     target, valueComponents, layout.Weight, spreadPossible, stats, counters,
-                    cancel, this->WalksDone, status, stopped);
+                    cancel, this->WalksDone, status, stopped,
+                    [&](const WalkCounters& c) -> const ErrorBarRule& {
+                      return this->P.ErrorRule(c);
+                    });
               }
               else
               {

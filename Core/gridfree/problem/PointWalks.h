@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <type_traits>
 #include <utility>
 
@@ -92,7 +93,8 @@ struct PointWalks
     int from, int most, double target, int valueComponents, int weightSlot,
     bool dataVary, RunningStatistics& stats,
     WalkCounters& counters, const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done,
-    DerivativeStatus& status, bool& stopped)
+    DerivativeStatus& status, bool& stopped,
+    const std::function<const ErrorBarRule&(const WalkCounters&)>& rule = nullptr)
   {
     stopped = false;
     int walked = from;
@@ -113,7 +115,8 @@ struct PointWalks
       {
         break; // the maximum came first: no check here
       }
-      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary, status))
+      if (MeetsTarget(stats, counters, target, valueComponents, weightSlot, dataVary, status,
+            rule ? &rule(counters) : nullptr))
       {
         stopped = true;
         break;
@@ -128,7 +131,7 @@ struct PointWalks
   // see Problem::SpreadPossible.)
   static bool MeetsTarget(const RunningStatistics& stats, const WalkCounters& counters,
     double target, int valueComponents, int weightSlot, bool dataVary,
-    DerivativeStatus status = DerivativeStatus::Interior)
+    DerivativeStatus status = DerivativeStatus::Interior, const ErrorBarRule* rule = nullptr)
   {
     const double targetVariance = target * target;
     bool reached = true;
@@ -139,7 +142,8 @@ struct PointWalks
     }
     return reached &&
       CheckErrorBar(stats, 0, valueComponents, weightSlot,
-        dataVary && counters.Steps > 0 && status != DerivativeStatus::OneSided)
+        dataVary && counters.Steps > 0 && status != DerivativeStatus::OneSided,
+        rule ? *rule : ErrorBarRule(), counters.ValueControlReach)
         .Reliable;
   }
 

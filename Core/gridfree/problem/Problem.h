@@ -141,6 +141,29 @@ private:
     // so do varying coefficients.
     this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
       (!this->Sources || this->Sources->Empty());
+    // The plain screened walk with Dirichlet data from a table and no
+    // sources gives walk values W·g with 0 ≤ W ≤ 1: bounded, which lets
+    // uneven weights pass where no unseen walk could move the mean far
+    // (ErrorBarReliability.h).
+    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients &&
+      (!this->Sources || this->Sources->Empty()))
+    {
+      const int nc = this->Shape->Components();
+      std::vector<double> low(static_cast<std::size_t>(nc)), high(low.size());
+      bool known = true;
+      for (int c = 0; c < nc && known; ++c)
+      {
+        known = this->Shape->ValueBounds(
+          c, low[static_cast<std::size_t>(c)], high[static_cast<std::size_t>(c)]);
+        low[static_cast<std::size_t>(c)] = std::min(low[static_cast<std::size_t>(c)], 0.0);
+        high[static_cast<std::size_t>(c)] = std::max(high[static_cast<std::size_t>(c)], 0.0);
+      }
+      if (known)
+      {
+        this->BoundedWalks.WalkLow = std::move(low);
+        this->BoundedWalks.WalkHigh = std::move(high);
+      }
+    }
     this->BuildSourceDensity();
   }
 
@@ -212,7 +235,20 @@ public:
     const SampleLayout& layout, DerivativeStatus status = DerivativeStatus::Interior) const
   {
     return CheckErrorBar(stats, layout.Value, this->SolutionComponents(), layout.Weight,
-      this->SpreadPossible(counters, status));
+      this->SpreadPossible(counters, status), this->ErrorRule(counters),
+      counters.ValueControlReach);
+  }
+
+  // The rule a point's error bar is judged by: with the bounds of its walk
+  // values where they are known (the screened walk with a value table and
+  // no sources), for walks never returned from far outside. A value's
+  // control variate may move a sample beyond them by
+  // WalkCounters::ValueControlReach, the slack CheckErrorBar is given.
+  const ErrorBarRule& ErrorRule(const WalkCounters& counters) const
+  {
+    static const ErrorBarRule plain;
+    return !this->BoundedWalks.WalkLow.empty() && counters.Returns == 0 ? this->BoundedWalks
+                                                                        : plain;
   }
 
   // Whether the walks of a point with these counters could have given
@@ -355,6 +391,7 @@ private:
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
   bool ConstantData = false; // constant boundary values and no sources
+  ErrorBarRule BoundedWalks;  // with the walk values' bounds, where known
 };
 } // namespace gridfree
 

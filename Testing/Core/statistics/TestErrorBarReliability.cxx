@@ -5,6 +5,7 @@
 // problems, and constant data, are never flagged; each of the two signs is
 // needed; and the target-error mode does not stop on an unreliable
 // variance.
+#include <gridfree/math/BesselFunctions.h>
 #include <gridfree/problem/Problem.h>
 #include <gridfree/statistics/ErrorBarReliability.h>
 #include "EstimatorChecks.h"
@@ -32,6 +33,8 @@ struct Outcome
   // The same with one measure left out.
   int WrongUnflaggedWithoutSpreadMeasure = 0;
   int WrongUnflaggedWithoutWeightMeasure = 0;
+  // Points the rule flags without the bounds of the walk values.
+  int FlaggedWithoutBounds = 0;
   double MaxAbsZ = 0.0;
   double MeanZ2 = 0.0;
   double MeanZ2Reliable = 0.0;
@@ -48,7 +51,7 @@ Outcome Solve(const Problem<DIM>& problem, const std::vector<Vec<DIM>>& points,
   const std::vector<std::array<double, 3>> probe = AsProbe<DIM>(points);
   std::vector<double> z(points.size(), 0.0);
   std::vector<ErrorBarCheck> both(points.size()), noSpread(points.size()),
-    noWeight(points.size());
+    noWeight(points.size()), noBounds(points.size());
   ErrorBarRule withoutWeight;
   ErrorBarRule withoutSpread;
   withoutSpread.MaxSkewShare = std::numeric_limits<double>::infinity();
@@ -63,6 +66,7 @@ Outcome Solve(const Problem<DIM>& problem, const std::vector<Vec<DIM>>& points,
       noSpread[i] =
         CheckErrorBar(stats, layout.Value, 1, layout.Weight, false, withoutSpread);
       noWeight[i] = CheckErrorBar(stats, layout.Value, 1, layout.Weight, spread, withoutWeight);
+      noBounds[i] = CheckErrorBar(stats, layout.Value, 1, layout.Weight, spread);
     });
   EXPECT_TRUE(summary.Completed);
   Outcome o;
@@ -73,6 +77,7 @@ Outcome Solve(const Problem<DIM>& problem, const std::vector<Vec<DIM>>& points,
     ++o.Points;
     o.Wrong += wrong;
     o.Flagged += !both[i].Reliable;
+    o.FlaggedWithoutBounds += !noBounds[i].Reliable;
     o.WrongUnflagged += wrong && both[i].Reliable;
     o.WrongUnflaggedWithoutSpreadMeasure += wrong && noSpread[i].Reliable;
     o.WrongUnflaggedWithoutWeightMeasure += wrong && noWeight[i].Reliable;
@@ -87,9 +92,10 @@ Outcome Solve(const Problem<DIM>& problem, const std::vector<Vec<DIM>>& points,
   EXPECT_EQ(summary.UnreliableErrorBars, static_cast<std::uint64_t>(o.Flagged));
   o.MeanZ2 /= o.Points;
   o.MeanZ2Reliable /= std::max(1, reliable);
-  std::printf("  points %d, |z| > 5: %d (unflagged %d), flagged %d, max |z| %.1f, mean z^2 %.2f "
-              "(reliable points: %.2f)\n",
-    o.Points, o.Wrong, o.WrongUnflagged, o.Flagged, o.MaxAbsZ, o.MeanZ2, o.MeanZ2Reliable);
+  std::printf("  points %d, |z| > 5: %d (unflagged %d), flagged %d (%d without the data's "
+              "bounds), max |z| %.1f, mean z^2 %.2f (reliable points: %.2f)\n",
+    o.Points, o.Wrong, o.WrongUnflagged, o.Flagged, o.FlaggedWithoutBounds, o.MaxAbsZ, o.MeanZ2,
+    o.MeanZ2Reliable);
   return o;
 }
 
@@ -355,4 +361,47 @@ TEST(ErrorBarReliability, CurveSourceNearTheCurve)
     points.push_back(a + t * (b - a) + r * (std::cos(phi) * n1 + std::sin(phi) * n2));
   }
   ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 512, 11));
+}
+
+// 2D screened Poisson with u = I0(3r) (c = 9) inside a three-lobed curve
+// r = 1 + 0.35 cos 3θ: uneven weights (their coefficient of variation above
+// 0.5 at about a third of the points) but data bounded by I0(4.05) ≈ 11.8,
+// so no unseen walk can move a mean by more than D/(s√N) ≈ 0.8 standard
+// errors. The error bars are right, and no point is flagged; without the
+// data's bounds, the weights alone flag 116 of 300.
+TEST(ErrorBarReliability, BoundedDataWithUnevenWeightsIsNotFlagged)
+{
+  const double k = 3.0;
+  const Field<2> u = [k](const Vec2& x) { return std::exp(k * x.norm()) * BesselI0Scaled(k * x.norm()); };
+  SimplexMesh<2> lobes;
+  const int n = 2048;
+  for (int i = 0; i < n; ++i)
+  {
+    const double t = 2.0 * M_PI * i / n;
+    const double r = 1.0 + 0.35 * std::cos(3.0 * t);
+    lobes.Vertices.push_back(Vec2(r * std::cos(t), r * std::sin(t)));
+    lobes.Simplices.push_back({ i, (i + 1) % n });
+  }
+  const Problem<2> problem(
+    std::make_shared<const Boundary<2>>(MakeBoundary<2>(lobes, { u })), Screened(k * k));
+  // Points inside the lobes' inscribed circle (radius 0.65) and in the lobes.
+  std::vector<Vec2> points;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> unit(-1.3, 1.3);
+  while (points.size() < 300)
+  {
+    const Vec2 x(unit(rng), unit(rng));
+    const double t = std::atan2(x[1], x[0]);
+    if (x.norm() < 0.95 * (1.0 + 0.35 * std::cos(3.0 * t)))
+    {
+      points.push_back(x);
+    }
+  }
+  const Outcome o = Solve<2>(problem, points, u, 256, 9);
+  EXPECT_EQ(o.Flagged, 0);
+  EXPECT_EQ(o.Wrong, 0);
+  EXPECT_GT(o.MeanZ2, 0.7);
+  EXPECT_LT(o.MeanZ2, 1.4);
+  // The weights alone (the rule without the data's bounds) would flag many.
+  EXPECT_GT(o.FlaggedWithoutBounds, 30);
 }
