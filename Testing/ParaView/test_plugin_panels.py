@@ -127,13 +127,14 @@ for name in ("WalkOnSpheresSolver", "WalkOnSpheresStreamTracer", "WalkOnSpheresA
     check(labels[0] == "Equation" and labels[-1] == "Advanced"
           and labels[-2] == "Implicit Boundary and CSG",
           "%s: groups in the order %s" % (name, labels))
-    # The source array also gives f of the equation with varying
-    # coefficients, whose own properties show for it alone.
-    shown_only_for = {"SourceArray": ["1", "2", "4"], "SourceExpression": ["1", "2"],
+    # The source array and expression also give f of the equation with
+    # varying coefficients, whose own properties show for it alone.
+    shown_only_for = {"SourceArray": ["1", "2", "4"], "SourceExpression": ["1", "2", "4"],
                       "SourceOperator": ["1", "2"], "SourceSampling": ["1", "2"]}
     for varying in ("DiffusionFromArray", "DiffusionArray", "DiffusionCoefficient",
                     "AbsorptionFromArray", "AbsorptionArray", "AbsorptionCoefficient",
-                    "SourceTermFromArray", "CoefficientSmoothing"):
+                    "SourceTermFromArray", "CoefficientSmoothing", "DiffusionExpression",
+                    "AbsorptionExpression"):
         shown_only_for[varying] = ["4"]
     found = set()
     for prop in proxy:
