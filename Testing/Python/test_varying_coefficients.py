@@ -15,6 +15,7 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData  # noqa: E
 
 from gridfree_testing import (  # noqa: E402
     MessageCatcher,
+    circle_boundary,
     filled_array,
     point_cloud,
     sphere_boundary,
@@ -160,6 +161,42 @@ def test_coefficients_from_expressions_values_and_gradients():
     solver.Update()
     wrong = z_scores(solver.GetOutput(), exact)
     assert sum(z * z for z in wrong) / len(wrong) > 1.4
+
+
+def test_expressions_in_2d():
+    # A 2D problem evaluates the expressions in the boundary's plane:
+    # u = x^2 - y^2 + 1/2 (harmonic) in the unit disk, alpha = 2 + x/2 +
+    # sin(2y)/2, sigma = 1 + x^2, f = grad(alpha).grad(u) - sigma u.
+    def u(x, y, z):
+        return x * x - y * y + 0.5
+
+    points = [(0.8 * math.sqrt((i + 0.5) / 150) * math.cos(i * 2.39996),
+               0.8 * math.sqrt((i + 0.5) / 150) * math.sin(i * 2.39996), 0.0) for i in range(150)]
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(circle_boundary(u))
+    solver.SetProbeData(point_cloud(points))
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetEquationToVaryingCoefficients()
+    solver.SetDiffusionExpression("2 + 0.5*x + 0.5*sin(2*y)")
+    solver.SetAbsorptionExpression("1 + x^2")
+    solver.SetSourceExpression("x - 2*y*cos(2*y) - (1 + x^2)*(x^2 - y^2 + 0.5)")
+    solver.SetWalksPerPoint(512)
+    solver.SetSeed(3)
+    solver.SetComputeGradient(True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    assert not catcher.errors and not catcher.warnings, catcher.error_text()
+    output = solver.GetOutput()
+    assert_calibrated(z_scores(output, u))
+    gradient = output.GetPointData().GetArray("T_Gradient")
+    variance = output.GetPointData().GetArray("T_Gradient_Variance")
+    scores = []
+    for i in range(output.GetNumberOfPoints()):
+        x, y, _ = output.GetPoint(i)
+        for k, exact_k in enumerate((2.0 * x, -2.0 * y)):
+            scores.append((gradient.GetComponent(i, k) - exact_k) /
+                          math.sqrt(variance.GetComponent(i, k)))
+    assert_calibrated(scores)
 
 
 def test_expressions_an_array_overrides_are_reported():
