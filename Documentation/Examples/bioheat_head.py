@@ -78,12 +78,10 @@ def solve(name, solver):
 def main():
     args = parse_arguments()
     os.makedirs(args.output, exist_ok=True)
-    if not hasattr(pvs, "WalkOnSpheresSolver"):
-        sys.exit("The GridFree plugin is not loaded: set PV_PLUGIN_PATH to its folder "
-                 "(`./gridfree env` prints it).")
     # The CT workflow's skin, padded volume and slice, the slice's points
     # inside the head (where the equation holds), the skin at u = −3 °C and
-    # the tissue arrays.
+    # the tissue arrays (ct_workflow.build_pipeline stops with a message when
+    # the plugin is not loaded).
     p = bioheat_tissues.head_inputs(args.volume, args.slice_z)
     ct_array, inside, skin, tissues = p["ct_array"], p["inside"], p["skin_u"], p["tissues"]
     (x0, x1, y0, y1, _, _) = p["volume"].GetDataInformation().GetBounds()

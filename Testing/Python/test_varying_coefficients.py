@@ -140,16 +140,25 @@ SIGMA_EXPRESSION = "1 + 0.5*z^2"
 SOURCE_EXPRESSION = "x - 3.2*y*cos(2*y) - (1 + 0.5*z^2)*(x^2 - y^2 + z + 0.5)"
 
 
-def test_coefficients_from_expressions_values_and_gradients():
-    solver = varying_solver()
-    solver.SetDiffusionExpression(ALPHA_EXPRESSION)
-    solver.SetAbsorptionExpression(SIGMA_EXPRESSION)
-    solver.SetSourceExpression(SOURCE_EXPRESSION)
+def set_expressions(solver, alpha, sigma, source):
+    solver.SetDiffusionExpression(alpha)
+    solver.SetAbsorptionExpression(sigma)
+    solver.SetSourceExpression(source)
+
+
+def solve_with_gradient(solver):
+    """Updates with the gradient on; no error or warning. The output."""
     solver.SetComputeGradient(True)
     catcher = MessageCatcher(solver)
     solver.Update()
     assert not catcher.errors and not catcher.warnings, catcher.error_text()
-    output = solver.GetOutput()
+    return solver.GetOutput()
+
+
+def test_coefficients_from_expressions_values_and_gradients():
+    solver = varying_solver()
+    set_expressions(solver, ALPHA_EXPRESSION, SIGMA_EXPRESSION, SOURCE_EXPRESSION)
+    output = solve_with_gradient(solver)
     assert_calibrated(z_scores(output, exact))
     assert_calibrated(gradient_z_scores(output))
     # A wrong alpha (its varying part reversed, as a slip in the adapter's
@@ -178,16 +187,11 @@ def test_expressions_in_2d():
     solver.SetProbeData(point_cloud(points))
     solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
     solver.SetEquationToVaryingCoefficients()
-    solver.SetDiffusionExpression("2 + 0.5*x + 0.5*sin(2*y)")
-    solver.SetAbsorptionExpression("1 + x^2")
-    solver.SetSourceExpression("x - 2*y*cos(2*y) - (1 + x^2)*(x^2 - y^2 + 0.5)")
+    set_expressions(solver, "2 + 0.5*x + 0.5*sin(2*y)", "1 + x^2",
+                    "x - 2*y*cos(2*y) - (1 + x^2)*(x^2 - y^2 + 0.5)")
     solver.SetWalksPerPoint(512)
     solver.SetSeed(3)
-    solver.SetComputeGradient(True)
-    catcher = MessageCatcher(solver)
-    solver.Update()
-    assert not catcher.errors and not catcher.warnings, catcher.error_text()
-    output = solver.GetOutput()
+    output = solve_with_gradient(solver)
     assert_calibrated(z_scores(output, u))
     assert_calibrated(gradient_z_scores(output, lambda x, y, z: (2.0 * x, -2.0 * y)))
 
@@ -207,9 +211,7 @@ def test_abort_while_the_coefficients_are_prepared():
     # when its progress label shows stops it, with a warning (no error), the
     # probe passing through without solution arrays; the next update solves.
     solver = varying_solver(walks=16)
-    solver.SetDiffusionExpression(ALPHA_EXPRESSION)
-    solver.SetAbsorptionExpression(SIGMA_EXPRESSION)
-    solver.SetSourceExpression(SOURCE_EXPRESSION)
+    set_expressions(solver, ALPHA_EXPRESSION, SIGMA_EXPRESSION, SOURCE_EXPRESSION)
     seen = []
 
     def abort_while_preparing(algorithm, event):
