@@ -8,7 +8,9 @@
 #
 # which is replaced by the fragment with every @key@ replaced by its value
 # (@note@, a sentence appended to the property's documentation, may be left
-# out). ParaView's own XML inheritance (base_proxygroup) would put inherited
+# out). A fragment's line that ends in <!-- unless KEY --> is left out where
+# the directive sets KEY (to anything), so that a proxy can offer fewer
+# choices of a shared enumeration. ParaView's own XML inheritance (base_proxygroup) would put inherited
 # properties, and so their panel groups, above the proxy's own ones; inclusion
 # keeps each panel in the order a user fills it in.
 function(gridfree_expand_server_manager_xml input output shared_dir)
@@ -25,6 +27,15 @@ function(gridfree_expand_server_manager_xml input output shared_dir)
     file(READ "${fragment_file}" fragment)
     string(REGEX REPLACE "\n$" "" fragment "${fragment}")
     string(REGEX MATCHALL "[A-Za-z]+=\"[^\"]*\"" parameters "${directive}")
+    string(REGEX MATCHALL "<!-- unless [A-Za-z]+ -->" conditions "${fragment}")
+    foreach(condition IN LISTS conditions)
+      string(REGEX REPLACE "^<!-- unless ([A-Za-z]+) -->$" "\\1" key "${condition}")
+      if(directive MATCHES " ${key}=\"")
+        string(REGEX REPLACE "\n[^\n]*${condition}" "" fragment "${fragment}")
+      else()
+        string(REPLACE " ${condition}" "" fragment "${fragment}")
+      endif()
+    endforeach()
     foreach(parameter IN LISTS parameters)
       string(REGEX REPLACE "^([A-Za-z]+)=\".*$" "\\1" key "${parameter}")
       string(REGEX REPLACE "^[A-Za-z]+=\"(.*)\"$" "\\1" value "${parameter}")

@@ -435,6 +435,16 @@ int vtkWalkOnSpheresCrossField::RequestData(
     vtkErrorMacro(<< "No Probe: connect the dataset to draw crosses on to port 1.");
     return 0;
   }
+  if (this->GetEstimator() != POINTWISE_WALKS)
+  {
+    // The caches tell inside from outside by the orientation of the
+    // boundary's primitives, and a cross field's loops may run either way
+    // (ν and −ν give the same ν⁴): a hole running like its outer loop
+    // would turn the domain inside out.
+    vtkErrorMacro(<< "The cross field takes the Pointwise Walks estimator only: its loops may "
+                     "run either way, which the caches cannot tell inside from outside by.");
+    return 0;
+  }
   output->CopyStructure(probe);
   output->GetPointData()->PassData(probe->GetPointData());
   output->GetCellData()->PassData(probe->GetCellData());

@@ -55,6 +55,10 @@
  * boundary) and StopReason (0 boundary, 1 singularity, 2 steps, 3 length,
  * 4 invalid point, 5 ψ = 0, 6 aborted).
  *
+ * Estimator: POINTWISE_WALKS only; a cache estimator is an error (the caches
+ * tell inside from outside by the orientation of the boundary's primitives,
+ * and the loops here may run either way).
+ *
  * Lengths (MergeRadius, IndexRadius, SeparatrixStep) are fractions of the
  * boundary's bounding-box diagonal. Searches and curves are estimated with
  * SearchWalksPerPoint walks per point; the probe with WalksPerPoint.

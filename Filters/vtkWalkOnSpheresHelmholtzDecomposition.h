@@ -35,6 +35,15 @@
  * X_StreamFunction (a, 2D), with variances. Field data: TotalWalks,
  * SolveSeconds.
  *
+ * Estimator: POINTWISE_WALKS (default) or SPHERE_CACHE (vtkWalkOnSpheresAlgorithm):
+ * each potential keeps its own cache of spheres, so a moved or denser probe
+ * costs only the spheres it has not met; the output then has the point
+ * array FromBoundaryCache and, summed over both caches, the field data
+ * CacheSpheres, CacheWalks, CacheWalksRun (0: both reused) and
+ * CacheSeconds, with PointsFromCache, PointsWalkedInShell and
+ * OutsidePoints. BOUNDARY_CACHE is an error (it gives no curl, and its
+ * gradients' error bars are too short for these potentials).
+ *
  * The two potentials are solved separately (seeds Seed and Seed + 1), so
  * their estimates are independent and X_Harmonic_Variance is the sum of the
  * other two parts' variances. Every walk of each solve gives all components

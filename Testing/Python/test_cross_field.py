@@ -151,6 +151,12 @@ def test_errors():
     catcher = MessageCatcher(filter_)
     filter_.Update()
     assert "one z-plane" in catcher.error_text(), catcher.error_text()
+    # A cache would take a hole running like its outer loop for outside.
+    filter_.SetBoundaryData(closed_polyline([(-1, -1), (1, -1), (1, 1), (-1, 1)]))
+    filter_.SetEstimator(filter_.SPHERE_CACHE)
+    catcher = MessageCatcher(filter_)
+    filter_.Update()
+    assert "Pointwise Walks estimator only" in catcher.error_text(), catcher.error_text()
 
 
 # Held-out polygons (Poincare-Hopf: the indices inside add up to the sum over

@@ -235,6 +235,97 @@ def test_same_result_for_any_thread_count():
             assert a.GetTuple3(i) == b.GetTuple3(i)
 
 
+def cache_probe(count, dimension):
+    """`count` spread points and two near the boundary: in 3D within the
+    cache's shell (they take their own walks), in 2D 0.03 and 0.04 from it
+    (the finest spheres answer them)."""
+    probe = probe_points(count, dimension, extent=0.95)
+    points = probe.GetPoints()
+    near = ((0.99, 0.1, -0.2), (-0.2, 0.985, 0.5)) if dimension == 3 else \
+        ((0.97, 0.1, 0.0), (-0.2, 0.96, 0.0))
+    for p in near:
+        points.InsertNextPoint(*p)
+    return point_cloud([points.GetPoint(i) for i in range(points.GetNumberOfPoints())])
+
+
+def sphere_cache_decomposition(boundary, probe, expression, seed):
+    helmholtz = gridfree.vtkWalkOnSpheresHelmholtzDecomposition()
+    helmholtz.SetBoundaryData(boundary)
+    helmholtz.SetProbeData(probe)
+    helmholtz.SetFieldExpression(expression)
+    helmholtz.SetEstimator(helmholtz.SPHERE_CACHE)
+    helmholtz.SetWalksPerSphere(256)
+    helmholtz.SetWalksPerPoint(256)
+    helmholtz.SetSeed(seed)
+    catcher = MessageCatcher(helmholtz)
+    helmholtz.Update()
+    assert not catcher.errors, catcher.error_text()
+    return helmholtz
+
+
+def field_value(output, name):
+    return output.GetFieldData().GetArray(name).GetValue(0)
+
+
+def test_sphere_cache_parts_calibrated():
+    """The Sphere Cache's parts on the cube and the square, near the
+    boundary too: every value within 5 standard errors, and the reported
+    variances right over three independent caches (points of one sphere
+    share its walks, so one cache's points are correlated)."""
+    cases = [
+        (cube_boundary(), cache_probe(40, 3), 3,
+         vector_expression(CURL_FREE_3D, DIVERGENCE_FREE_3D, HARMONIC_3D),
+         [("_CurlFree", python_function(CURL_FREE_3D)),
+          ("_DivergenceFree", python_function(DIVERGENCE_FREE_3D)),
+          ("_Harmonic", python_function(HARMONIC_3D))]),
+        (square_boundary(), cache_probe(60, 2), 2,
+         vector_expression(CURL_FREE_2D, DIVERGENCE_FREE_2D, HARMONIC_2D),
+         [("_CurlFree", python_function(CURL_FREE_2D)),
+          ("_DivergenceFree", python_function(DIVERGENCE_FREE_2D)),
+          ("_Harmonic", python_function(HARMONIC_2D))]),
+    ]
+    for boundary, probe, dimension, expression, parts in cases:
+        scores = []
+        for seed in range(3):
+            helmholtz = sphere_cache_decomposition(boundary, probe, expression, seed)
+            output = helmholtz.GetOutput()
+            scores += check_parts(output, "X", parts, dimension)
+            check_sum(output, "X")
+            n = probe.GetNumberOfPoints()
+            from_cache = [output.GetPointData().GetArray("FromBoundaryCache").GetValue(i)
+                          for i in range(n)]
+            walked = 2 if dimension == 3 else 0
+            assert from_cache == [1] * (n - walked) + [0] * walked
+            assert field_value(output, "PointsFromCache") == n - walked
+            assert field_value(output, "PointsWalkedInShell") == walked
+            assert field_value(output, "CacheWalksRun") > 0
+        mean_z2 = sum(z * z for z in scores) / len(scores)
+        assert 0.7 < mean_z2 < 1.4, (dimension, mean_z2)
+
+
+def test_sphere_cache_reused_by_moved_probe():
+    """A second probe inside the spheres already made runs no walks in the
+    caches (CacheWalksRun 0) and answers each point as before; a probe that
+    reaches new spheres makes them."""
+    expression = vector_expression(CURL_FREE_3D, DIVERGENCE_FREE_3D, HARMONIC_3D)
+    probe = probe_points(30, 3, extent=0.6)
+    helmholtz = sphere_cache_decomposition(cube_boundary(), probe, expression, 5)
+    first = helmholtz.GetOutput()
+    before = [first.GetPointData().GetArray("X_DivergenceFree").GetTuple3(i) for i in range(30)]
+    assert field_value(first, "CacheWalksRun") > 0
+    subset = list(range(29, -1, -3))
+    helmholtz.SetProbeData(point_cloud([probe.GetPoint(i) for i in subset]))
+    helmholtz.Update()
+    second = helmholtz.GetOutput()
+    assert field_value(second, "CacheWalksRun") == 0
+    assert helmholtz.GetLastNumberOfWalks() == 0
+    for k, i in enumerate(subset):
+        assert second.GetPointData().GetArray("X_DivergenceFree").GetTuple3(k) == before[i]
+    helmholtz.SetProbeData(point_cloud([(0.8, -0.8, 0.75)]))
+    helmholtz.Update()
+    assert field_value(helmholtz.GetOutput(), "CacheWalksRun") > 0
+
+
 def run_expecting_error(configure):
     helmholtz = gridfree.vtkWalkOnSpheresHelmholtzDecomposition()
     helmholtz.SetBoundaryData(cube_boundary())
@@ -263,6 +354,9 @@ def test_errors():
     scalar_image.GetPointData().SetScalars(scalars)
     catcher = run_expecting_error(lambda h: h.SetFieldData(scalar_image))
     assert "no vector point array" in catcher.error_text(), catcher.error_text()
+    catcher = run_expecting_error(lambda h: (h.SetFieldExpression("x*iHat"),
+                                             h.SetEstimator(h.BOUNDARY_CACHE)))
+    assert "not the Boundary Cache" in catcher.error_text(), catcher.error_text()
     empty = vtkPolyData()
     helmholtz = gridfree.vtkWalkOnSpheresHelmholtzDecomposition()
     helmholtz.SetBoundaryData(empty)
