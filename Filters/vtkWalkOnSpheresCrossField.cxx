@@ -18,6 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "GridFreeArraySelection.h"
+#include "GridFreeCacheSummary.h"
 #include "GridFreePointNumbers.h"
 #include "GridFreeSolveSettings.h"
 
@@ -435,16 +436,6 @@ int vtkWalkOnSpheresCrossField::RequestData(
     vtkErrorMacro(<< "No Probe: connect the dataset to draw crosses on to port 1.");
     return 0;
   }
-  if (this->GetEstimator() != POINTWISE_WALKS)
-  {
-    // The caches tell inside from outside by the orientation of the
-    // boundary's primitives, and a cross field's loops may run either way
-    // (ν and −ν give the same ν⁴): a hole running like its outer loop
-    // would turn the domain inside out.
-    vtkErrorMacro(<< "The cross field takes the Pointwise Walks estimator only: its loops may "
-                     "run either way, which the caches cannot tell inside from outside by.");
-    return 0;
-  }
   output->CopyStructure(probe);
   output->GetPointData()->PassData(probe->GetPointData());
   output->GetCellData()->PassData(probe->GetCellData());
@@ -456,11 +447,39 @@ int vtkWalkOnSpheresCrossField::RequestData(
                   << (boundary ? "it has no lines or has polygons." : "none is connected."));
     return 0;
   }
-  const std::vector<Segment> segments = SegmentsOf(boundary);
+  std::vector<Segment> segments = SegmentsOf(boundary);
   if (segments.empty())
   {
     vtkErrorMacro(<< "The Boundary's lines have no segment of non-zero length.");
     return 0;
+  }
+  if (this->GetEstimator() == BOUNDARY_CACHE)
+  {
+    vtkErrorMacro(<< "The cross field takes the Pointwise Walks or the Sphere Cache estimator, "
+                     "not the Boundary Cache (its gradients' error bars are too short here).");
+    return 0;
+  }
+  if (this->GetEstimator() == SPHERE_CACHE)
+  {
+    // The cache tells inside from outside by the side of the closest
+    // segment, so every segment must have the domain on the same side; the
+    // input's loops may run either way (ν and −ν give the same ν⁴), so
+    // they are turned to have the domain on their left.
+    std::vector<std::vector<gridfree::Vec2>> loops;
+    if (!LoopsOf(segments, loops))
+    {
+      vtkErrorMacro(<< "With the Sphere Cache the Boundary's lines must form closed loops (each "
+                       "end point shared by exactly two segments).");
+      return 0;
+    }
+    segments.clear();
+    for (const std::vector<gridfree::Vec2>& loop : loops)
+    {
+      for (std::size_t k = 0; k < loop.size(); ++k)
+      {
+        segments.push_back(Segment{ loop[k], loop[(k + 1) % loop.size()] });
+      }
+    }
   }
   double bounds[6];
   boundary->GetBounds(bounds);
@@ -510,6 +529,10 @@ int vtkWalkOnSpheresCrossField::RequestData(
       return this->CheckAbort() ? 1 : 0;
     }
     AddCrossArrays(solved->GetPointData(), output);
+    if (this->GetEstimator() == SPHERE_CACHE)
+    {
+      gridfree::AddCacheSummary({ solved.GetPointer() }, output);
+    }
   }
 
   if (search)

@@ -55,9 +55,14 @@
  * boundary) and StopReason (0 boundary, 1 singularity, 2 steps, 3 length,
  * 4 invalid point, 5 ψ = 0, 6 aborted).
  *
- * Estimator: POINTWISE_WALKS only; a cache estimator is an error (the caches
- * tell inside from outside by the orientation of the boundary's primitives,
- * and the loops here may run either way).
+ * Estimator: POINTWISE_WALKS (default) or SPHERE_CACHE
+ * (vtkWalkOnSpheresAlgorithm): with the cache, the probe, the singularity
+ * search and the separatrices are all answered from one cache of spheres,
+ * kept for the next execution; the loops are first turned to have the
+ * domain on their left (the cache tells inside from outside by that side),
+ * so they must be closed. The output then has FromBoundaryCache and the
+ * probe solve's cache field data (CacheWalksRun 0: reused). BOUNDARY_CACHE
+ * is an error.
  *
  * Lengths (MergeRadius, IndexRadius, SeparatrixStep) are fractions of the
  * boundary's bounding-box diagonal. Searches and curves are estimated with

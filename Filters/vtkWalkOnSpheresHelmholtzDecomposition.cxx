@@ -5,7 +5,6 @@
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkExprTkFunctionParser.h"
-#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -15,6 +14,7 @@
 #include "vtkProbeFilter.h"
 #include "vtkSmartPointer.h"
 #include "GridFreeArraySelection.h"
+#include "GridFreeCacheSummary.h"
 #include "GridFreeSettingAccessors.h"
 #include "GridFreeSolveSettings.h"
 
@@ -49,32 +49,6 @@ vtkSmartPointer<vtkDoubleArray> Renamed(vtkDataArray* array, const std::string& 
   copy->DeepCopy(array);
   copy->SetName(name.c_str());
   return copy;
-}
-// With the Sphere Cache: which points the caches answered (both potentials
-// have the same lattice and shell, so the same points) and, summed over the
-// two potentials' caches, their size and what this execution spent on them
-// (CacheWalksRun 0: both were reused as they were).
-void AddCacheSummary(vtkDataSet* scalarSolve, vtkDataSet* vectorSolve, vtkDataSet* output)
-{
-  if (vtkDataArray* fromCache = scalarSolve->GetPointData()->GetArray("FromBoundaryCache"))
-  {
-    output->GetPointData()->AddArray(fromCache);
-  }
-  vtkFieldData* first = scalarSolve->GetFieldData();
-  vtkFieldData* second = vectorSolve->GetFieldData();
-  auto value = [](vtkFieldData* fd, const char* name) {
-    vtkDataArray* array = fd->GetArray(name);
-    return array && array->GetNumberOfTuples() > 0 ? array->GetComponent(0, 0) : 0.0;
-  };
-  for (const char* shared : { "PointsFromCache", "PointsWalkedInShell", "OutsidePoints" })
-  {
-    gridfree::AddFieldValue(output->GetFieldData(), shared, value(first, shared));
-  }
-  for (const char* summed : { "CacheSpheres", "CacheWalks", "CacheWalksRun", "CacheSeconds" })
-  {
-    gridfree::AddFieldValue(
-      output->GetFieldData(), summed, value(first, summed) + value(second, summed));
-  }
 }
 } // namespace
 
@@ -362,7 +336,8 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
   out->AddArray(vectorPotentialVariance);
   if (this->GetEstimator() == SPHERE_CACHE)
   {
-    AddCacheSummary(scalarSolve, vectorSolve, output);
+    // Both potentials answer the same points, each from its own cache.
+    gridfree::AddCacheSummary({ scalarSolve, vectorSolve }, output);
   }
   this->AddSummary(output);
   this->UpdateProgress(1.0);
