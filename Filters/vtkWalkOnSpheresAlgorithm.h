@@ -110,9 +110,11 @@ public:
    * cache; a TargetStandardError grows its walks (per sphere, or per
    * boundary cache point) until every point it answers meets the target,
    * up to WalksPerPoint; a time budget's rounds give it at least a point's
-   * walks. Laplace and Poisson equations
-   * (volume sources; the boundary cache also screened Poisson) with
-   * Dirichlet conditions on a closed mesh; value and gradient only.
+   * walks. Laplace's, Poisson's and the screened Poisson equation (volume
+   * sources; the sphere cache also point and curve sources) on a closed
+   * mesh, with Dirichlet conditions (the sphere cache also with Neumann and
+   * Robin parts); the value and gradient, and with the sphere cache the
+   * directional derivative, divergence and curl, and Hessian.
    */
   enum EstimatorType
   {

@@ -56,6 +56,11 @@ public:
     std::vector<double> A;  // a_l(ρ)
     std::vector<double> B;  // a_l(ρ)/ρ (finite at ρ = 0; 0 for l = 0)
     std::vector<double> D;  // a_l'(ρ)
+    // With second-order coefficients (RadialAt's secondOrder), for
+    // Hessians; all finite at ρ = 0:
+    std::vector<double> D2; // a_l''(ρ)
+    std::vector<double> EF; // a_0'/ρ (l = 0); a_l'/ρ − a_l/ρ² (l ≥ 1)
+    std::vector<double> F;  // a_l/ρ² (l ≥ 2; 0 for l < 2)
     std::vector<double> Scratch; // r_l(kρ)
   };
 
@@ -65,7 +70,8 @@ public:
     : K(k)
     , Radius(R)
   {
-    const int terms = TermsFor(std::min(reach, 0.95));
+    // (Enough for Hessians; RadialAt takes fewer where they suffice.)
+    const int terms = TermsFor(std::min(reach, 0.95), true);
     this->Terms = terms;
     const double z = k * R;
     Ratios(z, terms + 1, this->RatioAtR);
@@ -93,10 +99,11 @@ public:
 
   int TermCount() const { return this->Terms; }
 
-  // a_l, a_l/ρ and a_l' at distance ρ from the centre (ρ ≤ R).
-  void RadialAt(double rho, Radial& out) const
+  // a_l, a_l/ρ and a_l' at distance ρ from the centre (ρ ≤ R); with
+  // `secondOrder`, also what the Hessians need (Radial::D2, EF, F).
+  void RadialAt(double rho, Radial& out, bool secondOrder = false) const
   {
-    const int n = std::min(this->Terms, TermsFor(std::min(rho / this->Radius, 0.95)));
+    const int n = std::min(this->Terms, TermsFor(std::min(rho / this->Radius, 0.95), secondOrder));
     out.Terms = n;
     out.A.assign(static_cast<std::size_t>(n), 0.0);
     out.B.assign(static_cast<std::size_t>(n), 0.0);
@@ -124,6 +131,34 @@ public:
       const auto i = static_cast<std::size_t>(l);
       out.D[i] = k * r[i + 1] * out.A[i] + l * out.B[i];
     }
+    if (!secondOrder)
+    {
+      out.D2.clear();
+      out.EF.clear();
+      out.F.clear();
+      return;
+    }
+    // a_l/ρ² = (a_{l−1}/ρ) q_l /r_l(kR) for l ≥ 2; a_0'/ρ = k q_1 a_0;
+    // a_l'/ρ − a_l/ρ² = k r_{l+1}(kρ) a_l/ρ + (l − 1) a_l/ρ²; and a_l''
+    // from the radial equation a'' + (DIM − 1) a'/ρ = (k² + l(l + DIM − 2)/ρ²) a.
+    out.D2.assign(static_cast<std::size_t>(n), 0.0);
+    out.EF.assign(static_cast<std::size_t>(n), 0.0);
+    out.F.assign(static_cast<std::size_t>(n), 0.0);
+    for (int l = 2; l < n; ++l)
+    {
+      const auto i = static_cast<std::size_t>(l);
+      const double q = k / (Alpha(l) + z * r[i + 1]);
+      out.F[i] = out.B[i - 1] * q / this->RatioAtR[i];
+    }
+    out.EF[0] = k * (k / (Alpha(1) + z * r[2])) * out.A[0];
+    out.D2[0] = k * k * out.A[0] - (DIM - 1) * out.EF[0];
+    for (int l = 1; l < n; ++l)
+    {
+      const auto i = static_cast<std::size_t>(l);
+      out.EF[i] = k * r[i + 1] * out.B[i] + (l - 1) * out.F[i];
+      out.D2[i] = k * k * out.A[i] + (l * (l + DIM - 2.0) - (DIM - 1)) * out.F[i] -
+        (DIM - 1) * out.EF[i];
+    }
   }
 
   // Σ_l β_l f_l g_l Φ_l(μ) and its μ-derivative, for the coefficient
@@ -134,49 +169,55 @@ public:
     double Slope = 0.0; // d/dμ
   };
 
-  // The Poisson kernel |∂B| P(x, s) and its x-gradient, with `radial` at ρ
-  // = |x − c|, e the direction of x − c (any unit vector at ρ = 0) and n
-  // the direction of s − c.
-  double Kernel(const Radial& radial, const Vec<DIM>& e, const Vec<DIM>& n, Vec<DIM>* gradient) const
+  // The Poisson kernel |∂B| P(x, s), its x-gradient and, with `hessian`
+  // (and `radial` made with second-order coefficients), its x-Hessian,
+  // with `radial` at ρ = |x − c|, e the direction of x − c (any unit
+  // vector at ρ = 0) and n the direction of s − c.
+  double Kernel(const Radial& radial, const Vec<DIM>& e, const Vec<DIM>& n, Vec<DIM>* gradient,
+    Mat<DIM>* hessian = nullptr) const
   {
-    const double mu = std::clamp(e.dot(n), -1.0, 1.0);
-    double value = 0.0, radialPart = 0.0, angularPart = 0.0;
-    Sum(radial.Terms, mu, [&](int l, double phi, double slope) {
-      const auto i = static_cast<std::size_t>(l);
-      const double beta = Beta(l);
-      value += beta * radial.A[i] * phi;
-      radialPart += beta * radial.D[i] * phi;
-      angularPart += beta * radial.B[i] * slope;
-    });
-    if (gradient)
-    {
-      // ∇ρ = e, ∇μ = (n − μ e)/ρ (the 1/ρ is in B).
-      *gradient = radialPart * e + angularPart * (n - mu * e);
-    }
-    return value;
+    return this->Series(radial, radial.Terms, e, n, gradient, hessian,
+      [](int l) { return Beta(l); });
   }
 
-  // H(x, y) and its x-gradient, with `atX` at |x − c| (direction e) and
-  // `atY` at |y − c| (direction n).
+  // H(x, y), its x-gradient and, with `hessian` (and `atX` made with
+  // second-order coefficients), its x-Hessian, with `atX` at |x − c|
+  // (direction e) and `atY` at |y − c| (direction n).
   double Regular(const Radial& atX, const Radial& atY, const Vec<DIM>& e, const Vec<DIM>& n,
-    Vec<DIM>* gradient) const
+    Vec<DIM>* gradient, Mat<DIM>* hessian = nullptr) const
   {
-    const double mu = std::clamp(e.dot(n), -1.0, 1.0);
-    double value = 0.0, radialPart = 0.0, angularPart = 0.0;
     // a_l(|x − c|) a_l(|y − c|) falls as the smaller ratio's power.
-    Sum(std::min(atX.Terms, atY.Terms), mu, [&](int l, double phi, double slope) {
-      const auto i = static_cast<std::size_t>(l);
-      const double w = Beta(l) * this->C[i] * atY.A[i];
-      value += w * atX.A[i] * phi;
-      radialPart += w * atX.D[i] * phi;
-      angularPart += w * atX.B[i] * slope;
-    });
     const double kappa = DIM == 3 ? this->K / (4.0 * M_PI) : 1.0 / (2.0 * M_PI);
-    if (gradient)
-    {
-      *gradient = kappa * (radialPart * e + angularPart * (n - mu * e));
-    }
-    return kappa * value;
+    return this->Series(atX, std::min(atX.Terms, atY.Terms), e, n, gradient, hessian,
+      [&](int l) { return kappa * Beta(l) * this->C[static_cast<std::size_t>(l)] *
+                     atY.A[static_cast<std::size_t>(l)]; });
+  }
+
+  // The x-Hessian of a_l(ρ) (e·v) for any vector v: the l = 1 term of a
+  // series with Φ_1(μ) = μ, for the means the sphere cache's slope control
+  // variate subtracts (R a_1 e·β).
+  Mat<DIM> FirstOrderHessian(const Radial& radial, const Vec<DIM>& e, const Vec<DIM>& v) const
+  {
+    const double mu = e.dot(v);
+    const Vec<DIM> m = v - mu * e;
+    const Mat<DIM> ee = e * e.transpose();
+    const double d2 = radial.Terms > 1 ? radial.D2[1] : 0.0;
+    const double ef = radial.Terms > 1 ? radial.EF[1] : 0.0;
+    return (d2 * mu) * ee + (ef * mu) * (Mat<DIM>::Identity() - ee) +
+      ef * (e * m.transpose() + m * e.transpose());
+  }
+
+  // The x-Hessian of a_0(ρ): a_0'' eeᵀ + (a_0'/ρ)(I − eeᵀ).
+  Mat<DIM> ZerothOrderHessian(const Radial& radial, const Vec<DIM>& e) const
+  {
+    const Mat<DIM> ee = e * e.transpose();
+    return radial.D2[0] * ee + radial.EF[0] * (Mat<DIM>::Identity() - ee);
+  }
+
+  // G''(r) from G(r) and G'(r): G'' + (DIM − 1) G'/r = k² G for r > 0.
+  double FreeSpaceSecond(double r, double g, double slope) const
+  {
+    return this->K * this->K * g - (DIM - 1) * slope / r;
   }
 
   // The free-space Green's function G(r) of −Δ + k² and G'(r).
@@ -233,17 +274,63 @@ public:
   }
 
 private:
+  // Σ_l w(l) a_l(ρ) Φ_l(μ) over `terms` terms, its x-gradient
+  // Σ w [a_l' Φ_l e + (a_l/ρ) Φ_l' m] (m = n − μ e, ∇μ = m/ρ) and its
+  // x-Hessian Σ w [a_l'' Φ_l eeᵀ + (a_l'/ρ Φ_l − a_l/ρ² μ Φ_l')(I − eeᵀ)
+  // + (a_l'/ρ − a_l/ρ²) Φ_l' (e mᵀ + m eᵀ) + a_l/ρ² Φ_l'' m mᵀ], written
+  // with the coefficients that stay finite at ρ = 0 (Radial::EF, F; the
+  // l = 1 term's 1/ρ parts cancel since Φ_1 = μ Φ_1' and Φ_1'' = 0).
+  template <class Weight>
+  double Series(const Radial& radial, int terms, const Vec<DIM>& e, const Vec<DIM>& n,
+    Vec<DIM>* gradient, Mat<DIM>* hessian, const Weight& weight) const
+  {
+    const double mu = std::clamp(e.dot(n), -1.0, 1.0);
+    double value = 0.0, radialPart = 0.0, angularPart = 0.0;
+    double cee = 0.0, cP = 0.0, cS = 0.0, cmm = 0.0;
+    Sum(terms, mu, [&](int l, double phi, double slope, double curvature) {
+      const auto i = static_cast<std::size_t>(l);
+      const double w = weight(l);
+      value += w * radial.A[i] * phi;
+      radialPart += w * radial.D[i] * phi;
+      angularPart += w * radial.B[i] * slope;
+      if (hessian)
+      {
+        cee += w * radial.D2[i] * phi;
+        cP += w * (radial.EF[i] * phi + radial.F[i] * (phi - mu * slope));
+        cS += w * radial.EF[i] * slope;
+        cmm += w * radial.F[i] * curvature;
+      }
+    });
+    const Vec<DIM> m = n - mu * e;
+    if (gradient)
+    {
+      // ∇ρ = e, ∇μ = (n − μ e)/ρ (the 1/ρ is in B).
+      *gradient = radialPart * e + angularPart * m;
+    }
+    if (hessian)
+    {
+      const Mat<DIM> ee = e * e.transpose();
+      *hessian = cee * ee + cP * (Mat<DIM>::Identity() - ee) +
+        cS * (e * m.transpose() + m * e.transpose()) + cmm * (m * m.transpose());
+    }
+    return value;
+  }
+
   static double Alpha(int l) { return 2.0 * l + (DIM - 2); }
   static double Beta(int l) { return DIM == 3 ? 2.0 * l + 1.0 : (l == 0 ? 1.0 : 2.0); }
 
   // The terms that leave the Laplace series' tail Σ_{l ≥ L} (2l+1) l² t^l
-  // (with the gradient's l²) below 1e-15 at t = ρ/R (a_l ≤ t^l).
-  static int TermsFor(double t)
+  // (with the gradient's l²) below 1e-15 at t = ρ/R (a_l ≤ t^l); with
+  // `secondOrder`, the Hessian's tail Σ (2l+1) l⁴ t^{l−2} (its Φ_l'' and
+  // a_l/ρ²), so at least l = 2, which stays finite at the centre.
+  static int TermsFor(double t, bool secondOrder = false)
   {
-    int terms = 2;
-    double power = t * t;
-    while (terms < 400 &&
-      (2.0 * terms + 1.0) * (terms + 1.0) * (terms + 1.0) * power > 1e-15 * (1.0 - t))
+    int terms = secondOrder ? 3 : 2;
+    double power = secondOrder ? t : t * t;
+    const auto tail = [&](double l) {
+      return (2.0 * l + 1.0) * (l + 1.0) * (l + 1.0) * (secondOrder ? (l + 1.0) * (l + 1.0) : 1.0);
+    };
+    while (terms < 400 && tail(terms) * power > 1e-15 * (1.0 - t))
     {
       ++terms;
       power *= t;
@@ -268,47 +355,54 @@ private:
     }
   }
 
-  // Calls visit(l, Φ_l(μ), Φ_l'(μ)) for every term: Legendre polynomials
-  // (3D), Chebyshev T_l (2D), with their derivatives by recurrence.
+  // Calls visit(l, Φ_l(μ), Φ_l'(μ), Φ_l''(μ)) for every term: Legendre
+  // polynomials (3D), Chebyshev T_l (2D), with their derivatives by
+  // recurrence (none divides by 1 − μ², so μ = ±1 is no special case).
   template <class Visit>
   static void Sum(int terms, double mu, Visit&& visit)
   {
     if constexpr (DIM == 3)
     {
-      double p0 = 1.0, p1 = mu, d0 = 0.0, d1 = 1.0;
-      visit(0, p0, d0);
+      // P_l' = μ P_{l−1}' + l P_{l−1}, P_l'' = μ P_{l−1}'' + (l + 1) P_{l−1}'.
+      double p0 = 1.0, p1 = mu, d1 = 1.0, c1 = 0.0;
+      visit(0, p0, 0.0, 0.0);
       if (terms > 1)
       {
-        visit(1, p1, d1);
+        visit(1, p1, d1, c1);
       }
       for (int l = 2; l < terms; ++l)
       {
         const double p2 = ((2.0 * l - 1.0) * mu * p1 - (l - 1.0) * p0) / l;
-        const double d2 = mu * d1 + l * p1; // P_l' = μ P_{l−1}' + l P_{l−1}
-        visit(l, p2, d2);
+        const double d2 = mu * d1 + l * p1;
+        const double c2 = mu * c1 + (l + 1.0) * d1;
+        visit(l, p2, d2, c2);
         p0 = p1;
         p1 = p2;
         d1 = d2;
+        c1 = c2;
       }
     }
     else
     {
-      // T_l and U_{l−1} (T_l' = l U_{l−1}).
-      double t0 = 1.0, t1 = mu, u0 = 1.0, u1 = 2.0 * mu;
-      visit(0, t0, 0.0);
+      // T_l = 2μ T_{l−1} − T_{l−2}, differentiated once and twice.
+      double t0 = 1.0, t1 = mu, d0 = 0.0, d1 = 1.0, c0 = 0.0, c1 = 0.0;
+      visit(0, t0, d0, c0);
       if (terms > 1)
       {
-        visit(1, t1, 1.0);
+        visit(1, t1, d1, c1);
       }
       for (int l = 2; l < terms; ++l)
       {
         const double t2 = 2.0 * mu * t1 - t0;
-        visit(l, t2, l * u1);
-        const double u2 = 2.0 * mu * u1 - u0;
+        const double d2 = 2.0 * t1 + 2.0 * mu * d1 - d0;
+        const double c2 = 4.0 * d1 + 2.0 * mu * c1 - c0;
+        visit(l, t2, d2, c2);
         t0 = t1;
         t1 = t2;
-        u0 = u1;
-        u1 = u2;
+        d0 = d1;
+        d1 = d2;
+        c0 = c1;
+        c1 = c2;
       }
     }
   }

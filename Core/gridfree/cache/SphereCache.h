@@ -176,11 +176,6 @@ public:
     {
       throw std::invalid_argument("divergence and curl need a solution of 3 components");
     }
-    if (want.Hessian && this->Screening > 0.0)
-    {
-      throw std::invalid_argument("the sphere cache gives the screened equation's value and "
-                                  "gradient, not its Hessian (yet)");
-    }
     const std::size_t n = at.size();
     this->WalksRun = 0;
     out.Reset(n, this->Components, DIM, want);
@@ -802,7 +797,7 @@ private:
     // exact, with the gradient's covariances.)
     // (So are ∇·u and ∇×u, from the samples' Jacobians.)
     const bool gradient = want.Gradient || want.Directional || want.DivergenceCurl;
-    const bool hessian = want.Hessian && !s.Series;
+    const bool hessian = want.Hessian;
     thread_local std::vector<Vec<DIM>> jacobians; // per sample and component
     if (want.DivergenceCurl)
     {
@@ -839,6 +834,9 @@ private:
     // means' x-gradients.
     thread_local std::vector<double> screenedW;
     thread_local std::vector<Vec<DIM>> screenedDW;
+    thread_local std::vector<Mat<DIM>> screenedD2W;
+    // Screened: the means' x-Hessians, ∇²a_0 (times ū) and ∇²(R a_1 e·β).
+    Mat<DIM> meanWHessian = Mat<DIM>::Zero();
     const ScreenedBallSeries<DIM>* series = s.Series.get();
     typename ScreenedBallSeries<DIM>::Radial radial;
     Vec<DIM> direction = Vec<DIM>::Unit(0);
@@ -846,16 +844,22 @@ private:
     {
       const double rho = std::sqrt(r2);
       direction = rho > 0.0 ? Vec<DIM>(p / rho) : direction;
-      series->RadialAt(rho, radial);
+      series->RadialAt(rho, radial, hessian);
       meanW = radial.A[0];
       meanWo = (R * (radial.Terms > 1 ? radial.A[1] : 0.0)) * direction;
       screenedW.resize(static_cast<std::size_t>(m));
       screenedDW.resize(static_cast<std::size_t>(m));
+      screenedD2W.resize(hessian ? static_cast<std::size_t>(m) : 0);
       for (int k = 0; k < m; ++k)
       {
-        const Vec<DIM> n = (s.Points[static_cast<std::size_t>(k)] - s.Centre) / R;
-        screenedW[static_cast<std::size_t>(k)] =
-          series->Kernel(radial, direction, n, gradient ? &screenedDW[static_cast<std::size_t>(k)] : nullptr);
+        const auto i = static_cast<std::size_t>(k);
+        const Vec<DIM> n = (s.Points[i] - s.Centre) / R;
+        screenedW[i] = series->Kernel(radial, direction, n,
+          gradient || hessian ? &screenedDW[i] : nullptr, hessian ? &screenedD2W[i] : nullptr);
+      }
+      if (hessian)
+      {
+        meanWHessian = series->ZerothOrderHessian(radial, direction);
       }
     }
     for (int c = 0; c < nc; ++c)
@@ -940,7 +944,16 @@ private:
             jacobians[static_cast<std::size_t>(k * nc + c)] = g;
           }
         }
-        if (hessian)
+        if (hessian && series)
+        {
+          // Screened: ∇ₓ²w times the residual, plus the means' Hessians
+          // (∫∇ₓ²P = ∇²a_0 and ∫∇ₓ²P (s − c) = ∇²(R a_1 e) are not zero).
+          const Mat<DIM> term = residual * screenedD2W[static_cast<std::size_t>(k)] +
+            others * meanWHessian + R * series->FirstOrderHessian(radial, direction, beta);
+          hsum += term;
+          hsquares += term.cwiseProduct(term);
+        }
+        else if (hessian)
         {
           // ∇ₓ²w = −2ρ I/|d|^DIM − DIM w I/|d|² + 2·DIM ρ (p dᵀ + d pᵀ)/|d|^{DIM+2}
           // + DIM(DIM+2) w d dᵀ/|d|⁴, ρ = R (3D) or 1 (2D), d = x − s
@@ -1024,7 +1037,8 @@ private:
       this->E = this->R > 0.0 ? Vec<DIM>(this->P / this->R) : Vec<DIM>::Unit(0);
       if (s.Series)
       {
-        s.Series->RadialAt(this->R, this->AtX);
+        // (With the second-order coefficients: BallGreen's Hessian.)
+        s.Series->RadialAt(this->R, this->AtX, true);
       }
     }
     Vec<DIM> X, P, E;
@@ -1036,7 +1050,8 @@ private:
   // The ball's Green's function G_B(x, y) (zero on the sphere) of −Δ, or
   // of −Δ + k² (G − H from the series), and its x-gradient, for y in the
   // ball at t = |y − x| along the unit w = (y − x)/t; with `d2G`, its
-  // x-Hessian (−Δ only). With v = b² p − q (b = |q|/R, p = x − c,
+  // x-Hessian: screened, G''(t) wwᵀ + G'(t)/t (I − wwᵀ) − ∇ₓ²H; for −Δ,
+  // with v = b² p − q (b = |q|/R, p = x − c,
   // q = y − c) and ρ the image distance, ∇ρ = v/ρ, so 3D:
   // ∇²G_B = [(3wwᵀ − I)/t³ + b² I/ρ³ − 3vvᵀ/ρ⁵]/(4π); 2D:
   // [(2wwᵀ − I)/t² + b² I/ρ² − 2vvᵀ/ρ⁴]/(2π).
@@ -1052,10 +1067,19 @@ private:
       const double qn = q.norm();
       series->RadialAt(qn, atY);
       Vec<DIM> dH;
+      Mat<DIM> d2H;
       double slope;
-      const double G = series->FreeSpace(t, &slope) -
-        series->Regular(at.AtX, atY, at.E, qn > 0.0 ? Vec<DIM>(q / qn) : Vec<DIM>::Unit(0), &dH);
+      const double free = series->FreeSpace(t, &slope);
+      const double G = free -
+        series->Regular(at.AtX, atY, at.E, qn > 0.0 ? Vec<DIM>(q / qn) : Vec<DIM>::Unit(0), &dH,
+          d2G ? &d2H : nullptr);
       dG = -slope * w - dH;
+      if (d2G)
+      {
+        const Mat<DIM> ww = w * w.transpose();
+        *d2G = series->FreeSpaceSecond(t, free, slope) * ww +
+          (slope / t) * (Mat<DIM>::Identity() - ww) - d2H;
+      }
       return G;
     }
     const double b = q.norm() / R;
@@ -1276,7 +1300,7 @@ private:
     VolumeSource<DIM>& source, SphereEstimate& into) const
   {
     const bool gradient = want.Gradient || want.Directional || want.DivergenceCurl;
-    const bool hessian = want.Hessian && !s.Series;
+    const bool hessian = want.Hessian;
     const bool directional = want.Directional;
     const bool divergenceCurl = want.DivergenceCurl;
     constexpr double kPi = 3.14159265358979323846;
@@ -1382,6 +1406,10 @@ private:
     const double ball = series ? series->BallIntegral(r, at.AtX) : 0.0;
     const Vec<DIM> ballGradient =
       series ? series->BallIntegralGradient(at.AtX, at.E) : Vec<DIM>::Zero();
+    // ∇²∫_B G_B: −I/DIM for −Δ; −∇²a_0/k² screened.
+    const Mat<DIM> ballHessian = series && hessian
+      ? Mat<DIM>(-series->ZerothOrderHessian(at.AtX, at.E) / (this->Screening * this->Screening))
+      : Mat<DIM>(-Mat<DIM>::Identity() / DIM);
     for (int c = 0; c < nc; ++c)
     {
       const double f = fx[static_cast<std::size_t>(c)];
@@ -1410,7 +1438,7 @@ private:
       for (int e = 0; e < DIM * DIM && hessian; ++e)
       {
         const std::size_t v = static_cast<std::size_t>(hessians + c * DIM * DIM + e);
-        const double exactHessian = e / DIM == e % DIM ? f / DIM : 0.0;
+        const double exactHessian = -f * ballHessian(e / DIM, e % DIM);
         into.Hessian[static_cast<std::size_t>(c * DIM * DIM + e)] += exactHessian + sum[v] / K;
         into.HessianVariance[static_cast<std::size_t>(c * DIM * DIM + e)] += squares[v] / (K * K);
       }

@@ -1,9 +1,12 @@
 // Tests of gridfree/cache/ScreenedBallSeries.h, deterministic: the
 // screened ball's Poisson kernel reproduces solutions of Δu = k²u and
-// their gradients by quadrature over the sphere, at points up to the reach
-// and for kR from 10⁻³ to 200; it becomes the Laplace kernel as k → 0;
+// their gradients and Hessians by quadrature over the sphere, at points up
+// to the reach and for kR from 10⁻³ to 200, and solves the screened
+// equation in x (the trace of its Hessian is k² times it) up to the centre;
+// it becomes the Laplace kernel as k → 0;
 // the regular part H equals the free-space Green's function on the sphere
-// (so G_B vanishes there) and its gradient agrees with finite differences;
+// (so G_B vanishes there) and its gradient and Hessian agree with finite
+// differences;
 // the ball integral of G_B is continuous where it changes formula.
 #include <gridfree/cache/ScreenedBallSeries.h>
 #include "Quadrature.h"
@@ -73,20 +76,31 @@ void ExpectKernelReproducesExponentials(double k, double R)
     e.normalize();
     const Vec<DIM> x = centre + t * R * e;
     typename ScreenedBallSeries<DIM>::Radial radial;
-    series.RadialAt(t * R, radial);
+    series.RadialAt(t * R, radial, true);
     double mean = 0.0;
     Vec<DIM> gradient = Vec<DIM>::Zero();
+    Mat<DIM> hessian = Mat<DIM>::Zero();
     SphereMean<DIM>([&](const Vec<DIM>& n, double weight) {
       const double value = u(centre + R * n);
       Vec<DIM> dw;
-      const double w = series.Kernel(radial, e, n, &dw);
+      Mat<DIM> d2w;
+      const double w = series.Kernel(radial, e, n, &dw, &d2w);
       mean += weight * w * value;
       gradient += (weight * value) * dw;
+      hessian += (weight * value) * d2w;
+      // The kernel solves the screened equation in x: Δₓw = k² w.
+      EXPECT_NEAR(d2w.trace(), k * k * w, 1e-9 * (k * k + 1.0 / (R * R)) * (1.0 + std::abs(w)))
+        << "k " << k << " R " << R << " t " << t;
     });
     EXPECT_NEAR(mean, u(x), 1e-12) << "k " << k << " R " << R << " t " << t;
     for (int a = 0; a < DIM; ++a)
     {
       EXPECT_NEAR(gradient[a], k * d[a] * u(x), 1e-11 * (k + 1.0 / R)) << "k " << k << " t " << t;
+      for (int b = 0; b < DIM; ++b)
+      {
+        EXPECT_NEAR(hessian(a, b), k * k * d[a] * d[b] * u(x), 1e-10 * PowerOf<2>(k + 1.0 / R))
+          << "k " << k << " t " << t << " entry " << a << b;
+      }
     }
   }
 }
@@ -127,7 +141,7 @@ void ExpectRegularPartMatchesOnTheSphere(double k, double R)
     e[0] = 0.8;
     e[1] = 0.6;
     const Vec<DIM> x = t * R * e;
-    series.RadialAt(t * R, atX);
+    series.RadialAt(t * R, atX, true);
     for (int j = 0; j < 12; ++j)
     {
       const double angle = 0.1 + 0.53 * j;
@@ -138,7 +152,8 @@ void ExpectRegularPartMatchesOnTheSphere(double k, double R)
       {
         series.RadialAt(s * R, atY);
         Vec<DIM> gradient;
-        const double h = series.Regular(atX, atY, e, n, &gradient);
+        Mat<DIM> hessian;
+        const double h = series.Regular(atX, atY, e, n, &gradient, &hessian);
         if (s == 1.0)
         {
           double slope;
@@ -150,6 +165,7 @@ void ExpectRegularPartMatchesOnTheSphere(double k, double R)
         for (int a = 0; a < DIM; ++a)
         {
           double side[2];
+          Vec<DIM> ahead, behind;
           for (int sign = 0; sign < 2; ++sign)
           {
             Vec<DIM> xs = x;
@@ -157,11 +173,18 @@ void ExpectRegularPartMatchesOnTheSphere(double k, double R)
             const double rho = xs.norm();
             const Vec<DIM> es = rho > 0.0 ? Vec<DIM>(xs / rho) : e;
             series.RadialAt(rho, shifted);
-            side[sign] = series.Regular(shifted, atY, es, n, nullptr);
+            side[sign] = series.Regular(shifted, atY, es, n, sign == 0 ? &ahead : &behind);
           }
           const double difference = (side[0] - side[1]) / (2.0 * step);
           EXPECT_NEAR(gradient[a], difference, 1e-6 * (std::abs(difference) + 1.0 / R))
             << "k " << k << " t " << t << " axis " << a;
+          // The Hessian's column a: central differences of the gradient.
+          for (int b = 0; b < DIM; ++b)
+          {
+            const double second = (ahead[b] - behind[b]) / (2.0 * step);
+            EXPECT_NEAR(hessian(b, a), second, 1e-5 * (std::abs(second) + 1.0 / (R * R)))
+              << "k " << k << " t " << t << " entry " << b << a;
+          }
         }
       }
     }
