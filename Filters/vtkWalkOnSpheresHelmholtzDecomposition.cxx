@@ -148,8 +148,6 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
     return 1;
   }
 
-  // Both potentials vanish on the boundary: zero boundary values.
-  const bool threeD = boundary->GetNumberOfPolys() + boundary->GetNumberOfStrips() > 0;
   if (this->GetEstimator() == BOUNDARY_CACHE)
   {
     // The boundary cache gives values and gradients, not the curl the
@@ -161,6 +159,8 @@ int vtkWalkOnSpheresHelmholtzDecomposition::RequestData(
                      "error bars are too short here).");
     return 0;
   }
+  // Both potentials vanish on the boundary: zero boundary values.
+  const bool threeD = boundary->GetNumberOfPolys() + boundary->GetNumberOfStrips() > 0;
   vtkNew<vtkPolyData> zeroBoundary;
   zeroBoundary->ShallowCopy(boundary);
   zeroBoundary->GetPointData()->Initialize();
