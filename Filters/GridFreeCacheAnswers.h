@@ -17,6 +17,8 @@
 
 #include "vtkAlgorithm.h"
 
+#include <gridfree/problem/PolynomialShiftFit.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -218,6 +220,11 @@ bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveS
     built.Caches->BoundaryCache<DIM>().reset();
     built.Caches->Spheres<DIM>().reset();
     return false;
+  }
+  if (const PolynomialShift<DIM>* shift = problem.GetPolynomialShift())
+  {
+    // The cache holds w = u − P (its problem's boundary and source are w's).
+    AddShiftToCacheAnswers<DIM>(*shift, points, s.DerivativeDirection, out.Answers);
   }
   out.Active = true;
   const int nc = built.Components;

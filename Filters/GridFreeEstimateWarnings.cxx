@@ -119,6 +119,13 @@ void WarnAboutBatch(vtkAlgorithm* self, const BatchFindings& f, const BatchWarni
                      "ParaView's Generate Surface Normals with Consistency and Auto Orient) and "
                      "leaks; results near them are wrong.");
   }
+  if (f.PointsOutsideShift > 0 && fresh)
+  {
+    GRIDFREE_WARN(<< f.PointsOutsideShift << " of " << f.Points
+                  << " probe points lie outside the closed boundary and are NaN: the polynomial "
+                     "control variate answers the interior problem only (set "
+                     "PolynomialControlVariate to 0 to solve outside as well).");
+  }
   if (!f.Completed)
   {
     WarnAboutAbort(f, warn);

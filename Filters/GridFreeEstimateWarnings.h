@@ -36,6 +36,8 @@ struct BatchFindings
   std::uint64_t PointsFinished = 0;
   std::uint64_t PointsWithoutWalks = 0;
   std::uint64_t BackFaceHits = 0;
+  // Points outside the closed boundary with the polynomial control variate (NaN).
+  std::uint64_t PointsOutsideShift = 0;
   std::int64_t PointsShortOfTarget = 0;
   std::uint64_t UnreliableErrorBars = 0;
   std::int64_t UnevenWeights = 0;

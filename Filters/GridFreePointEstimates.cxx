@@ -763,6 +763,7 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   found.PointsFinished = summary.PointsFinished;
   found.PointsWithoutWalks = summary.PointsWithoutWalks;
   found.BackFaceHits = summary.BackFaceHits;
+  found.PointsOutsideShift = summary.PointsOutsideShift;
   found.UnreliableErrorBars = summary.UnreliableErrorBars;
   found.UnevenWeights = arrays.UnevenWeights();
   found.OneWalkSpread = arrays.OneWalkSpread();
@@ -776,6 +777,13 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   if (fd)
   {
     AddSummaryFields(fd, found, mixed, start.Outside);
+    if (const PolynomialShift<DIM>* shift = problem.GetPolynomialShift())
+    {
+      // The walks estimated u − P: the degree of P, and the points outside
+      // the closed boundary it left NaN.
+      AddFieldValue(fd, "PolynomialControlVariate", static_cast<double>(shift->GetDegree()));
+      AddFieldValue(fd, "OutsideControlVariate", static_cast<double>(summary.PointsOutsideShift));
+    }
     if (cached.Active)
     {
       AddCacheFields(fd, cached, start.Outside);
@@ -797,7 +805,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
     // NaN results of finite probe points: walks whose coordinates
     // overflowed (points far beyond the boundary's scale) end with no
     // boundary value.
-    found.NanResults = -start.NonFinite - start.Outside - cached.Outside;
+    found.NanResults = -start.NonFinite - start.Outside - cached.Outside -
+      static_cast<std::int64_t>(summary.PointsOutsideShift);
     for (vtkIdType i = 0; i < numPoints; ++i)
     {
       found.NanResults += std::isnan(arrays.FirstValue(i)) ? 1 : 0;

@@ -10,6 +10,7 @@
 
 #include <gridfree/execution/ParallelExecution.h>
 #include <gridfree/execution/PreparationMonitor.h>
+#include <gridfree/problem/PolynomialShiftFit.h>
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendPolyData.h"
@@ -249,7 +250,7 @@ struct ProblemBuilder::Internals
     AppendDouble(walk.Epsilon, key);
     AppendDouble(walk.ScreeningCoefficient, key);
     for (int v : { walk.MaxSteps, static_cast<int>(walk.Problem), static_cast<int>(walk.Sampling),
-           static_cast<int>(s.SourceOperator), s.Seed })
+           static_cast<int>(s.SourceOperator), s.Seed, s.PolynomialControlVariate })
     {
       key.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
     }
@@ -292,6 +293,27 @@ struct ProblemBuilder::Internals
 
   template <int DIM>
   bool Make(vtkObject* self, ProblemBuilder& builder, BuiltProblem& out);
+
+  // The problem of w = u − P (the polynomial control variate), kept while
+  // its data, equation and degree stay the same: the fit and the copy of
+  // the boundary it reads g − P from are made once, not at every moved
+  // probe.
+  std::vector<std::uint64_t> ShiftKey;
+  std::shared_ptr<const Problem<2>> Shifted2;
+  std::shared_ptr<const Problem<3>> Shifted3;
+
+  template <int DIM>
+  std::shared_ptr<const Problem<DIM>>& ShiftedProblem()
+  {
+    if constexpr (DIM == 2)
+    {
+      return this->Shifted2;
+    }
+    else
+    {
+      return this->Shifted3;
+    }
+  }
 
   // The coefficients of the varying equation, kept while their image, its
   // arrays, the constants, the smoothing and the domain stay the same (the
@@ -430,6 +452,9 @@ void ProblemBuilder::Forget()
   this->Internal->CoefficientKey.clear();
   this->Internal->Coefficients2.reset();
   this->Internal->Coefficients3.reset();
+  this->Internal->ShiftKey.clear();
+  this->Internal->Shifted2.reset();
+  this->Internal->Shifted3.reset();
 }
 
 bool ProblemBuilder::Resolve(vtkObject* self, const SolveSettings& settings,
@@ -834,6 +859,11 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
                                     << nc << ".");
       return false;
     }
+    if (s.PolynomialControlVariate > 0)
+    {
+      vtkWarningWithObjectMacro(self, << "PolynomialControlVariate is ignored by the equation "
+                                         "with varying coefficients (its walks carry no shift).");
+    }
     auto model = this->CoefficientsFor<DIM>(self,
       BoundingBox<DIM>(shared->BoundsMin(), shared->BoundsMax()));
     if (!model)
@@ -841,6 +871,42 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
       return false;
     }
     problem = std::make_shared<const Problem<DIM>>(shared, settings, model);
+  }
+  else if (s.PolynomialControlVariate > 0)
+  {
+    if (mixed)
+    {
+      vtkErrorWithObjectMacro(self, << "The polynomial control variate takes Dirichlet "
+                                       "conditions only: set PolynomialControlVariate to 0 for "
+                                       "a problem with Neumann or Robin parts.");
+      return false;
+    }
+    if (settings.Problem == Equation::Biharmonic || nc != 1)
+    {
+      vtkErrorWithObjectMacro(self, << "The polynomial control variate takes the Laplace, "
+                                       "Poisson and screened Poisson equations with boundary "
+                                       "values of one component: set PolynomialControlVariate "
+                                       "to 0.");
+      return false;
+    }
+    std::vector<std::uint64_t> key = this->MakeCacheKey(settings);
+    std::shared_ptr<const Problem<DIM>>& kept = this->ShiftedProblem<DIM>();
+    if (!kept || key != this->ShiftKey)
+    {
+      kept.reset();
+      try
+      {
+        kept = MakeShiftedProblem<DIM>(*shared, settings, sources.get(), s.PolynomialControlVariate);
+      }
+      catch (const std::invalid_argument& e)
+      {
+        vtkErrorWithObjectMacro(self, << "Cannot use the polynomial control variate: " << e.what()
+                                      << ". Set PolynomialControlVariate to 0.");
+        return false;
+      }
+      this->ShiftKey = std::move(key);
+    }
+    problem = kept;
   }
   else
   {

@@ -104,6 +104,10 @@ struct SolveSettings
   double CacheOffset = 0.01;
   int WalksPerSphere = 128;
   int CacheSourceSamples = 256;
+  // The polynomial control variate's degree (0: none): the walks estimate
+  // u − P for a polynomial P fitted to the boundary values and the source
+  // (gridfree/problem/PolynomialShiftFit.h).
+  int PolynomialControlVariate = 0;
 
   // The derivatives.
   bool ComputeGradient = false;

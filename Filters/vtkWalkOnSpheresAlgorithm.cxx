@@ -39,6 +39,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheOffset, double, 1e-6,
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheShellDistance, double, 0.0, 1.0)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, WalksPerSphere, int, 4, VTK_INT_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, CacheSourceSamples, int, 2, VTK_INT_MAX)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresAlgorithm, PolynomialControlVariate, int, 0, 12)
 
 gridfree::SolveSettings& vtkWalkOnSpheresAlgorithm::GetSettings()
 {
@@ -110,6 +111,7 @@ void vtkWalkOnSpheresAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CacheOffset: " << s.CacheOffset << "\n";
   os << indent << "CacheShellDistance: " << s.CacheShellDistance << "\n";
   os << indent << "WalksPerSphere: " << s.WalksPerSphere << "\n";
+  os << indent << "PolynomialControlVariate: " << s.PolynomialControlVariate << "\n";
   os << indent << "CacheSourceSamples: " << s.CacheSourceSamples << "\n";
   os << indent << "LastBoundaryBuilt: " << this->Kept->LastBoundaryBuilt << "\n";
 }

@@ -184,7 +184,7 @@ def head_inputs(volume=None, slice_z=70.0):
     points inside the head, where the equation holds) and `tissues`
     (tissue_arrays of the padded volume); `ct_array` names the CT values."""
     volume = volume or os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME)
-    p = ct_workflow.build_pipeline(volume, walks=1, slice_z=slice_z)
+    p = ct_workflow.build_pipeline(volume, walks=1, slice_z=slice_z, polynomial=0)
     pvs.Delete(p["solver"])
     p["ct_array"] = p["volume"].PointData.keys()[0]
     p["inside"] = pvs.Threshold(Input=p["slice"], Scalars=["POINTS", p["ct_array"]],

@@ -7,6 +7,7 @@ table.
 
     pvbatch ct_cache.py [--estimator sphere|boundary] [--target 0.5] [--slices 10]
                         [--pointwise-slices 2] [--walks-per-sphere 128] [--shell 0.02]
+                        [--polynomial 6]
 
 Standard errors are sqrt(T_Variance) over the slice points inside the head
 (CT value of tissue), in degrees; seconds are wall-clock seconds of the
@@ -43,6 +44,8 @@ parser.add_argument("--walks-per-sphere", type=int, default=128)
 parser.add_argument("--source-samples", type=int, default=256)
 parser.add_argument("--most", type=int, default=4096, help="the most walks per point")
 parser.add_argument("--step", type=float, default=5.0, help="slice spacing (mm)")
+parser.add_argument("--polynomial", type=int, default=0,
+                    help="degree of the polynomial control variate of both solvers (0: none)")
 args = parser.parse_args()
 
 volume = os.path.join(ct_workflow.data_folder(), "headsq_headCT.mhd")
@@ -70,6 +73,8 @@ solver.WalksPerCachePoint = args.cache_walks
 solver.CacheVolumePoints = args.cache_volume_points
 solver.CacheOffset = args.offset
 solver.CacheShellDistance = args.shell
+solver.PolynomialControlVariate = args.polynomial
+pointwise.PolynomialControlVariate = args.polynomial
 
 
 def inside_numbers(proxy):
@@ -98,6 +103,9 @@ def timed_update(proxy):
 
 # The boundary's hierarchy first, for both (with a cheap setting).
 z0 = p["slice"].SliceType.Origin[2]
+if args.polynomial:
+    print("Both solvers with the polynomial control variate of degree %d (points outside the "
+          "head are NaN for both)." % args.polynomial)
 if args.estimator == "sphere":
     print("CT slice, target %.2f degrees at every point inside the head; sphere cache, %d walks "
           "per sphere, %d source samples per point, shell %.3g" % (

@@ -20,6 +20,7 @@
 #include <gridfree/geometry/DistanceBoundGrid.h>
 #include <gridfree/geometry/SidePseudonormals.h>
 #include <gridfree/math/Vector.h>
+#include <gridfree/sources/PolynomialShift.h>
 
 #include <algorithm>
 #include <cmath>
@@ -129,6 +130,19 @@ public:
   }
   bool IsTwoSided() const { return this->TwoSided; }
 
+  // Values read as g − P at the closest point, P evaluated there exactly
+  // (PolynomialShift.h: the walks then estimate w = u − P); one-sided
+  // values of one component only. Null removes the shift.
+  void SetValueShift(std::shared_ptr<const PolynomialShift<DIM>> shift)
+  {
+    if (shift && (this->TwoSided || this->NumberOfComponents != 1))
+    {
+      throw std::invalid_argument("a polynomial shift takes one-sided values of one component");
+    }
+    this->Shift = std::move(shift);
+  }
+  const PolynomialShift<DIM>* GetValueShift() const { return this->Shift.get(); }
+
   bool Empty() const { return !this->Shape && this->Primitives.empty(); }
   // Numbers per boundary value (one side's, for two-sided values).
   int Components() const
@@ -147,7 +161,7 @@ public:
   // which may vary.
   bool ConstantValues() const
   {
-    if (this->ValueFunction || this->Values.empty())
+    if (this->ValueFunction || this->Values.empty() || this->Shift)
     {
       return false;
     }
@@ -167,7 +181,7 @@ public:
   // from a function, or without a table.
   bool ValueBounds(int c, double& lowest, double& highest) const
   {
-    if (this->ValueFunction || this->Values.empty())
+    if (this->ValueFunction || this->Values.empty() || this->Shift)
     {
       return false;
     }
@@ -363,6 +377,15 @@ private:
   // point data, or the primitive's own value for cell data.
   void EvaluateStored(const ClosestPointResult<DIM>& hit, double* out) const
   {
+    this->EvaluateUnshifted(hit, out);
+    if (this->Shift && hit.primitive >= 0)
+    {
+      out[0] -= this->Shift->Value(hit.point);
+    }
+  }
+
+  void EvaluateUnshifted(const ClosestPointResult<DIM>& hit, double* out) const
+  {
     if (this->ValueFunction)
     {
       this->ValueFunction->Evaluate(hit, out);
@@ -412,6 +435,7 @@ private:
     this->Association = ValueAssociation::Points;
     this->ValueFunction.reset();
     this->Shape.reset();
+    this->Shift.reset();
     this->TwoSided = false;
     this->Tree = Bvh<DIM>();
     this->BoundGrid = DistanceBoundGrid<DIM>();
@@ -503,6 +527,7 @@ private:
   std::vector<double> Values;
   std::shared_ptr<const BoundaryValueFunction<DIM>> ValueFunction;
   std::shared_ptr<const BoundaryGeometry<DIM>> Shape;
+  std::shared_ptr<const PolynomialShift<DIM>> Shift;
   static constexpr std::size_t kBoundGridVertices = 300000;
   static constexpr double kBoundGridBoundRelaxation = 0.05;
   double StepRelaxation = 0.2;

@@ -339,6 +339,7 @@ private:
     request.WalksPerPoint = walks;
     request.Seed = this->Settings.Seed;
     request.Threads = this->Settings.Threads;
+    request.AddPolynomialShift = false; // the cache holds w = u − P (PolynomialShift.h)
     request.Derivatives.Gradient = true;
     const BatchEstimates walked = problem.EstimateAll(inside, request, progress, &this->Kept);
     this->CompleteBuild = walked.Summary.Completed;

@@ -560,6 +560,7 @@ private:
     request.WalksPerPoint = 1;
     request.Seed = this->Settings.Seed;
     request.Threads = this->Settings.Threads;
+    request.AddPolynomialShift = false; // the cache holds w = u − P (PolynomialShift.h)
     const BatchEstimates walked = problem.EstimateAll(points, request, progress);
     if (!walked.Summary.Completed)
     {

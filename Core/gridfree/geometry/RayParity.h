@@ -116,6 +116,25 @@ bool MajorityParityVote(const std::array<Vec<DIM>, kParityRays>& directions, con
   }
   return inside > outside;
 }
+// Whether x is enclosed by a closed mesh boundary (the majority of
+// kParityRays ray parities); false outside its box.
+template <int DIM, class MeshBoundary>
+bool InsideClosedMesh(const MeshBoundary& boundary, const Vec<DIM>& x)
+{
+  for (int i = 0; i < DIM; ++i)
+  {
+    if (!(x[i] >= boundary.BoundsMin()[i] && x[i] <= boundary.BoundsMax()[i]))
+    {
+      return false;
+    }
+  }
+  static const std::array<Vec<DIM>, kParityRays> directions = ParityRayDirections<DIM>();
+  const double gap = 1e-9 * boundary.Diagonal();
+  const auto limit = static_cast<std::int64_t>(boundary.NumberOfPrimitives()) + 1;
+  return MajorityParityVote<DIM>(directions, [&](const Vec<DIM>& d) {
+    return CountRayCrossings<DIM>(boundary.Hierarchy(), x, d, gap, limit);
+  });
+}
 } // namespace gridfree
 
 #endif

@@ -43,6 +43,10 @@ struct BatchRequest
   // A point whose error bar is not reliable (ErrorBarReliability.h) does not
   // stop: its small standard error may be an artefact of heavy tails.
   double TargetStandardError = 0.0;
+  // A problem with a polynomial control variate (Problem::SetPolynomialShift)
+  // answers u = P + w; false asks for w itself, at every point (the
+  // caches, which hold w and add P to their own answers).
+  bool AddPolynomialShift = true;
 
   bool DerivativeWalks() const
   {
@@ -105,6 +109,9 @@ struct BatchSummary
   // walks they hold, but for PointsWithoutWalks, which hold none.
   std::uint64_t PointsFinished = 0;
   std::uint64_t PointsWithoutWalks = 0;
+  // Points outside the closed boundary of a problem with a polynomial
+  // control variate (Problem::SetPolynomialShift): NaN.
+  std::uint64_t PointsOutsideShift = 0;
   double Seconds = 0.0;
 };
 

@@ -20,8 +20,10 @@
 #include <gridfree/estimators/VaryingCoefficientWalk.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/execution/ParallelExecution.h>
+#include <gridfree/geometry/RayParity.h>
 #include <gridfree/problem/Batch.h>
 #include <gridfree/problem/BatchScheduler.h>
+#include <gridfree/sources/PolynomialShift.h>
 #include <gridfree/sources/SourceSet.h>
 #include <gridfree/stars/StarDerivativeWalks.h>
 #include <gridfree/stars/WalkOnStars.h>
@@ -31,6 +33,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -174,6 +177,68 @@ public:
   const WalkSettings& Settings() const { return this->Walk; }
   const SourceSet<DIM>* GetSources() const { return this->Sources.get(); }
 
+  // The polynomial P of a problem built for w = u − P (PolynomialShift.h:
+  // its boundary reads g − P, its source is f − (ΔP − c·P)); null for a
+  // plain problem. Estimate then adds P, ∇P, ∇²P and Z·∇P to what the
+  // walks of w give, so every answer is u's. Set once, before the problem
+  // is shared; the caller has checked that the boundary and sources are w's.
+  // Points outside the closed mesh (by ray parity, RayParity.h: a contour's
+  // stray flipped triangle does not move a point outside) are NaN, for
+  // w = u − P grows like P at infinity, which the exterior walks do not
+  // represent (BatchSummary::PointsOutsideShift counts them).
+  void SetPolynomialShift(std::shared_ptr<const PolynomialShift<DIM>> shift)
+  {
+    if (shift && (this->Mixed || this->Coefficients ||
+                   this->Walk.Problem == Equation::Biharmonic || this->SolutionComponents() != 1))
+    {
+      throw std::invalid_argument("the polynomial control variate takes Dirichlet problems of "
+                                  "the Laplace, Poisson and screened Poisson equations with one "
+                                  "component");
+    }
+    this->Shift = std::move(shift);
+  }
+  const PolynomialShift<DIM>* GetPolynomialShift() const { return this->Shift.get(); }
+
+  // Adds P's part at x to a point's statistics of w (see SetPolynomialShift).
+  void AddShift(const std::array<double, 3>& xyz, const SampleLayout& layout,
+    const DerivativeRequest& derivatives, RunningStatistics& stats) const
+  {
+    Vec<DIM> x;
+    for (int i = 0; i < DIM; ++i)
+    {
+      x[i] = xyz[static_cast<std::size_t>(i)];
+    }
+    stats.ShiftMean(layout.Value, this->Shift->Value(x));
+    if (layout.Gradient >= 0 || layout.Directional >= 0)
+    {
+      const Vec<DIM> g = this->Shift->Gradient(x);
+      for (int i = 0; i < DIM && layout.Gradient >= 0; ++i)
+      {
+        stats.ShiftMean(layout.Gradient + i, g[i]);
+      }
+      if (layout.Directional >= 0)
+      {
+        double dz = 0.0;
+        for (int i = 0; i < DIM; ++i)
+        {
+          dz += derivatives.Direction[static_cast<std::size_t>(i)] * g[i];
+        }
+        stats.ShiftMean(layout.Directional, dz);
+      }
+    }
+    if (layout.Hessian >= 0)
+    {
+      const Mat<DIM> h = this->Shift->Hessian(x);
+      for (int i = 0; i < DIM; ++i)
+      {
+        for (int j = 0; j < DIM; ++j)
+        {
+          stats.ShiftMean(layout.Hessian + i * DIM + j, h(i, j));
+        }
+      }
+    }
+  }
+
   // Components of the solution (g's, or half of g and h's for the
   // biharmonic equation).
   int SolutionComponents() const
@@ -279,7 +344,44 @@ public:
     const BatchProgressCallback& progress = BatchProgressCallback(),
     RunningSumsCache* kept = nullptr) const
   {
-    return BatchScheduler<DIM>(*this, points, request, sink, progress, kept).Run();
+    if (!this->Shift || !request.AddPolynomialShift)
+    {
+      return BatchScheduler<DIM>(*this, points, request, sink, progress, kept).Run();
+    }
+    // The walks (and any kept sums) are w's; the sink gets u's numbers.
+    // Points outside the closed boundary walk from NaN: NaN answers.
+    std::vector<std::array<double, 3>> inside(points);
+    std::vector<unsigned char> outside(points.size(), 0);
+    ParallelForWithProgress(points.size(), request.Threads,
+      [&](std::size_t begin, std::size_t end, const std::atomic<bool>&) {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          Vec<DIM> x;
+          if (!ProbeStartPoint<DIM>(points[i].data(), x))
+          {
+            continue;
+          }
+          if (!InsideClosedMesh<DIM>(*this->Shape, x))
+          {
+            outside[i] = 1;
+            inside[i].fill(std::numeric_limits<double>::quiet_NaN());
+          }
+        }
+      },
+      nullptr, 0.1, 256);
+    const SampleLayout layout = this->Layout(request);
+    const PointSink shifted = [&](std::size_t i, const RunningStatistics& stats,
+                                const WalkCounters& counters, DerivativeStatus status) {
+      RunningStatistics u = stats;
+      this->AddShift(points[i], layout, request.Derivatives, u);
+      sink(i, u, counters, status);
+    };
+    BatchSummary summary = BatchScheduler<DIM>(*this, inside, request, shifted, progress, kept).Run();
+    for (unsigned char o : outside)
+    {
+      summary.PointsOutsideShift += o;
+    }
+    return summary;
   }
 
   // Estimate, with every point's means and variances collected.
@@ -388,6 +490,7 @@ private:
   std::shared_ptr<const MixedBoundary<DIM>> Mixed;
   WalkSettings Walk;
   std::shared_ptr<const SourceSet<DIM>> Sources;
+  std::shared_ptr<const PolynomialShift<DIM>> Shift;
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
   bool ConstantData = false; // constant boundary values and no sources

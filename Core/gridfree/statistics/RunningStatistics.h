@@ -99,6 +99,10 @@ public:
   }
   double GetMean(int c) const { return this->Mean[c]; }
 
+  // Adds a known constant to every sample of component c already added
+  // (the mean moves; the spread, skew and tails do not).
+  void ShiftMean(int c, double delta) { this->Mean[c] += delta; }
+
   // Unbiased sample variance of one sample, s^2 (N - 1 in the denominator).
   double SampleVariance(int c) const
   {
