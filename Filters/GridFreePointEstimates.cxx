@@ -407,13 +407,19 @@ void AddSummaryFields(vtkFieldData* fd, const BatchFindings& f, bool mixed, std:
 }
 
 // Points that took every walk allowed with a standard error still above
-// the target.
+// the target. NaN values are not counted: more walks would not change them
+// (points outside a closed boundary the problem solves inside, walks that
+// overflowed, which their own warnings name).
 std::int64_t PointsShortOfTarget(const EstimateArrays& arrays, double target, int walksPerPoint)
 {
   const int nc = arrays.Components;
   std::int64_t unreached = 0;
   for (vtkIdType i = 0; i < arrays.Mean->GetNumberOfTuples(); ++i)
   {
+    if (std::isnan(arrays.Mean->GetValue(i * nc)))
+    {
+      continue;
+    }
     bool above = false;
     for (int c = 0; c < nc; ++c)
     {
@@ -620,6 +626,10 @@ struct NumberStorage
     std::int64_t unreached = 0;
     for (std::size_t i = 0; i < b.Points; ++i)
     {
+      if (std::isnan(b.Value(i)))
+      {
+        continue; // as PointsShortOfTarget
+      }
       bool above = false;
       for (int c = 0; c < this->Numbers.Components; ++c)
       {

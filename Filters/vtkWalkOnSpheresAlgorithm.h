@@ -156,7 +156,7 @@ public:
    * then estimate w = u − P, whose boundary values are g − P and whose
    * source is f − (ΔP − c·P), and P, ∇P and ∇²P are added back: exact
    * whatever P is, and the closer P is to u the fewer walks a target needs
-   * (5 to 7 times fewer on the CT workflow at degree 6). For the Laplace,
+   * (a fifth of a walk's variance on the CT workflow at degree 6). For the Laplace,
    * Poisson and screened Poisson equations with Dirichlet values of one
    * component on a closed mesh, with a volume source (no point or curve
    * sources); points outside the closed boundary are NaN.

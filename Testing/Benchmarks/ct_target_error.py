@@ -5,7 +5,7 @@ error, fixed walk counts against the target-error mode, and the progressive
 preview (Refine Until Target: 128 walks, then rounds of Refine until every
 point is at the target). Prints tables.
 
-    pvbatch ct_target_error.py [--target 0.5] [--threads 0]
+    pvbatch ct_target_error.py [--target 0.5] [--threads 0] [--polynomial 6]
 
 Standard errors are sqrt(T_Variance) over the slice points inside the head
 (CT value of tissue), in degrees; times are wall-clock seconds of the solver's
@@ -26,11 +26,13 @@ import ct_workflow  # noqa: E402
 parser = argparse.ArgumentParser()
 parser.add_argument("--target", type=float, default=0.5)
 parser.add_argument("--threads", type=int, default=0)
+parser.add_argument("--polynomial", type=int, default=6,
+                    help="degree of the polynomial control variate (0: none)")
 args = parser.parse_args()
 
 volume = os.path.join(ct_workflow.data_folder(), "headsq_headCT.mhd")
 start = time.time()
-p = ct_workflow.build_pipeline(volume, walks=128)
+p = ct_workflow.build_pipeline(volume, walks=128, polynomial=args.polynomial)
 solver = p["solver"]
 solver.KeepRunningSums = 0
 solver.NumberOfThreads = args.threads
