@@ -7,7 +7,7 @@ table.
 
     pvbatch ct_cache.py [--estimator sphere|boundary] [--target 0.5] [--slices 10]
                         [--pointwise-slices 2] [--walks-per-sphere 128] [--shell 0.02]
-                        [--polynomial 6]
+                        [--polynomial 6 (the default; 0: none)]
 
 Standard errors are sqrt(T_Variance) over the slice points inside the head
 (CT value of tissue), in degrees; seconds are wall-clock seconds of the
@@ -44,8 +44,9 @@ parser.add_argument("--walks-per-sphere", type=int, default=128)
 parser.add_argument("--source-samples", type=int, default=256)
 parser.add_argument("--most", type=int, default=4096, help="the most walks per point")
 parser.add_argument("--step", type=float, default=5.0, help="slice spacing (mm)")
-parser.add_argument("--polynomial", type=int, default=0,
-                    help="degree of the polynomial control variate of both solvers (0: none)")
+parser.add_argument("--polynomial", type=int, default=6,
+                    help="degree of the polynomial control variate of both solvers, as the "
+                         "workflow runs (0: none)")
 args = parser.parse_args()
 
 volume = os.path.join(ct_workflow.data_folder(), "headsq_headCT.mhd")
