@@ -224,7 +224,8 @@ bool AnswerFromCache(vtkAlgorithm* self, const BuiltProblem& built, const SolveS
   if (const PolynomialShift<DIM>* shift = problem.GetPolynomialShift())
   {
     // The cache holds w = u − P (its problem's boundary and source are w's).
-    AddShiftToCacheAnswers<DIM>(*shift, points, s.DerivativeDirection, out.Answers);
+    AddShiftToCacheAnswers<DIM>(
+      *shift, problem.GetBoundary(), points, s.DerivativeDirection, out.Answers);
   }
   out.Active = true;
   const int nc = built.Components;

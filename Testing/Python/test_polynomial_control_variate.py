@@ -109,3 +109,36 @@ def test_problems_it_cannot_take_are_errors():
     add_point_array(sheet, "T", u)
     _, catcher = solve(4, walks=8, boundary=sheet)
     assert "closed mesh enclosing a volume" in catcher.error_text()
+
+
+def test_cache_leaves_points_outside_nan_where_triangles_are_flipped():
+    # The sphere's cap above z = 0.8 turned inside out: the caches' own
+    # inside test reads the closest triangle's side, so points outside above
+    # the cap look inside to them; ray parity says outside, and with the
+    # control variate (w grows like P outside) they must be NaN, not answers.
+    boundary = sphere_boundary(u)
+    from vtkmodules.vtkCommonCore import vtkIdList
+    ids = vtkIdList()
+    for cell in range(boundary.GetNumberOfCells()):
+        boundary.GetCellPoints(cell, ids)
+        corners = [ids.GetId(k) for k in range(3)]
+        if sum(boundary.GetPoint(k)[2] for k in corners) / 3.0 > 0.8:
+            boundary.ReplaceCell(cell, 3, [corners[0], corners[2], corners[1]])
+    points = vtkPoints()
+    for z in (1.12, 1.2):
+        points.InsertNextPoint(0.02, -0.01, z)
+    points.InsertNextPoint(0.1, 0.2, -0.1)
+    cloud = vtkPolyData()
+    cloud.SetPoints(points)
+    solver = gridfree.vtkWalkOnSpheresSolver()
+    solver.SetBoundaryData(boundary)
+    solver.SetProbeData(cloud)
+    solver.SetInputArrayToProcess(0, 0, 0, POINTS, "T")
+    solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.POISSON)
+    solver.SetSourceExpression("2 + 0*x")
+    solver.SetEstimator(gridfree.vtkWalkOnSpheresSolver.SPHERE_CACHE)
+    solver.SetPolynomialControlVariate(3)
+    solver.Update()
+    t = solver.GetOutput().GetPointData().GetArray("T")
+    assert math.isnan(t.GetValue(0)) and math.isnan(t.GetValue(1)), (t.GetValue(0), t.GetValue(1))
+    assert abs(t.GetValue(2) - u(0.1, 0.2, -0.1)) < 0.1

@@ -25,6 +25,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -158,12 +159,17 @@ std::shared_ptr<Problem<DIM>> MakeShiftedProblem(const Boundary<DIM>& boundary,
 }
 
 // Adds P's part to a cache's answers of w (CacheEvaluation: NaN stays NaN);
-// `direction` is the directional derivative's.
+// `direction` is the directional derivative's. An answered point that ray
+// parity finds outside `boundary` (the closed mesh P was fitted in) becomes
+// NaN and Outside, as Problem::Estimate leaves such points: the caches'
+// own inside test reads the closest triangle's side, which a contour's
+// stray flipped triangle can turn, and outside, w grows like P.
 template <int DIM>
-void AddShiftToCacheAnswers(const PolynomialShift<DIM>& shift,
+void AddShiftToCacheAnswers(const PolynomialShift<DIM>& shift, const Boundary<DIM>& boundary,
   const std::vector<std::array<double, 3>>& points, const std::array<double, 3>& direction,
   CacheEvaluation& e)
 {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     Vec<DIM> x;
@@ -173,6 +179,22 @@ void AddShiftToCacheAnswers(const PolynomialShift<DIM>& shift,
     }
     if (!x.allFinite() || !std::isfinite(e.Value[i]))
     {
+      continue;
+    }
+    if (!InsideClosedMesh<DIM>(boundary, x))
+    {
+      for (std::vector<double>* a : { &e.Value, &e.ValueVariance, &e.Gradient, &e.GradientVariance,
+             &e.Hessian, &e.HessianVariance, &e.Directional, &e.DirectionalVariance })
+      {
+        if (a->empty())
+        {
+          continue;
+        }
+        const std::size_t per = a->size() / points.size();
+        std::fill(a->begin() + static_cast<std::ptrdiff_t>(i * per),
+          a->begin() + static_cast<std::ptrdiff_t>((i + 1) * per), nan);
+      }
+      e.Outside[i] = 1;
       continue;
     }
     e.Value[i] += shift.Value(x);

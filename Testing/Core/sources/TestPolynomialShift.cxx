@@ -267,7 +267,8 @@ TEST(PolynomialShift, SphereCacheOfAShiftedProblemIsCalibrated)
     SphereCache<3> cache(*problem, cacheSettings);
     CacheEvaluation answer;
     ASSERT_TRUE(cache.Answer(*problem, probe, CacheDerivatives(true), answer));
-    AddShiftToCacheAnswers<3>(*problem->GetPolynomialShift(), probe, { 1.0, 0.0, 0.0 }, answer);
+    AddShiftToCacheAnswers<3>(
+      *problem->GetPolynomialShift(), problem->GetBoundary(), probe, { 1.0, 0.0, 0.0 }, answer);
     for (std::size_t i = 0; i < points.size(); ++i)
     {
       if (answer.InShell[i] || answer.Outside[i])
