@@ -21,7 +21,10 @@
 // walk cheap where the coefficients are flat (Sawhney et al. 2022, Sec. 5,
 // suggest bounds over regions): ScreeningBoundGrid samples σ′ on a lattice
 // over a box and keeps min/max pyramids, so a ball of any size reads at most
-// 2^n cells of the level whose cells are at least its diameter.
+// 2^n cells of the level whose cells are at least its diameter. It keeps the
+// same pyramids of the source f′, whose range on a ball lets the walk skip
+// most of its source evaluations (VaryingCoefficientWalk.h); like σ′'s, a
+// range that misses an extremum costs variance, never bias.
 #ifndef GRIDFREE_COEFFICIENTS_SCREENING_MAJORANT_H
 #define GRIDFREE_COEFFICIENTS_SCREENING_MAJORANT_H
 
@@ -45,14 +48,18 @@
 namespace gridfree
 {
 // What the walk uses on one ball: the majorant σ̄ ≥ 0, a floor
-// 0 ≤ σ_c ≤ σ̄ with σ_c ≤ σ′ on the ball, and the range [Lowest, Highest]
-// that σ′ keeps to on the ball.
+// 0 ≤ σ_c ≤ σ̄ with σ_c ≤ σ′ on the ball, the range [Lowest, Highest]
+// that σ′ keeps to on the ball, and the range the source f′ keeps to there
+// with the largest |f′| anywhere (SourceScale), all infinite where unknown.
 struct BallScreening
 {
   double Bound = 0.0;
   double Floor = 0.0;
   double Lowest = 0.0;
   double Highest = 0.0;
+  double SourceLowest = -std::numeric_limits<double>::infinity();
+  double SourceHighest = std::numeric_limits<double>::infinity();
+  double SourceScale = std::numeric_limits<double>::infinity();
 };
 
 template <int DIM>
@@ -146,7 +153,7 @@ public:
     {
       latticePoints *= static_cast<std::size_t>(lattice);
     }
-    std::vector<double> sampled(latticePoints);
+    std::vector<double> sampled(latticePoints), sampledSource(latticePoints);
     // The first lattice point (in index order) where the coefficients are
     // unusable, so the message names the same place on any thread count.
     std::atomic<std::size_t> firstBad{ latticePoints };
@@ -175,8 +182,11 @@ public:
         {
           CoefficientSample<DIM> c;
           field.Evaluate(pointOf(index), c);
-          sampled[index] = Transform(c).Screening;
-          if (!CoefficientsUsable(c) || !std::isfinite(sampled[index]))
+          const TransformedCoefficients t = Transform(c);
+          sampled[index] = t.Screening;
+          sampledSource[index] = t.Source;
+          if (!CoefficientsUsable(c) || !std::isfinite(sampled[index]) ||
+            !std::isfinite(sampledSource[index]))
           {
             std::size_t seen = firstBad.load();
             while (index < seen && !firstBad.compare_exchange_weak(seen, index))
@@ -201,14 +211,12 @@ public:
     // Finest level from the lattice.
     Level finest;
     finest.Cells = cells;
-    finest.Low.assign(CellCount(cells), std::numeric_limits<double>::infinity());
-    finest.High.assign(CellCount(cells), -std::numeric_limits<double>::infinity());
-    for (std::size_t cell = 0; cell < finest.Low.size(); ++cell)
+    finest.Ranges.assign(CellCount(cells), CellRanges{});
+    for (std::size_t cell = 0; cell < finest.Ranges.size(); ++cell)
     {
       std::array<int, DIM> c = Unflatten(cell, cells);
       std::array<int, DIM> offset{};
-      double lo = std::numeric_limits<double>::infinity();
-      double hi = -lo;
+      CellRanges r;
       for (;;)
       {
         std::size_t index = 0, stride = 1;
@@ -217,8 +225,7 @@ public:
           index += stride * static_cast<std::size_t>(c[i] * k + offset[i]);
           stride *= static_cast<std::size_t>(lattice);
         }
-        lo = std::min(lo, sampled[index]);
-        hi = std::max(hi, sampled[index]);
+        r.Take(sampled[index], sampledSource[index]);
         int axis = 0;
         while (axis < DIM && ++offset[axis] > k)
         {
@@ -229,9 +236,8 @@ public:
           break;
         }
       }
-      const double widen = settings.Margin * (hi - lo);
-      finest.Low[cell] = lo - widen;
-      finest.High[cell] = hi + widen;
+      r.Widen(settings.Margin);
+      finest.Ranges[cell] = r;
     }
     this->Levels.push_back(std::move(finest));
     while (this->Levels.back().Cells > 1)
@@ -239,21 +245,20 @@ public:
       const Level& fine = this->Levels.back();
       Level coarse;
       coarse.Cells = fine.Cells / 2;
-      coarse.Low.assign(CellCount(coarse.Cells), std::numeric_limits<double>::infinity());
-      coarse.High.assign(CellCount(coarse.Cells), -std::numeric_limits<double>::infinity());
-      for (std::size_t cell = 0; cell < fine.Low.size(); ++cell)
+      coarse.Ranges.assign(CellCount(coarse.Cells), CellRanges{});
+      for (std::size_t cell = 0; cell < fine.Ranges.size(); ++cell)
       {
         std::array<int, DIM> c = Unflatten(cell, fine.Cells);
         for (int i = 0; i < DIM; ++i)
         {
           c[i] /= 2;
         }
-        const std::size_t parent = Flatten(c, coarse.Cells);
-        coarse.Low[parent] = std::min(coarse.Low[parent], fine.Low[cell]);
-        coarse.High[parent] = std::max(coarse.High[parent], fine.High[cell]);
+        coarse.Ranges[Flatten(c, coarse.Cells)].Merge(fine.Ranges[cell]);
       }
       this->Levels.push_back(std::move(coarse));
     }
+    const CellRanges& all = this->Levels.back().Ranges.front();
+    this->SourceScale = std::max(std::abs(all.SourceLow), std::abs(all.SourceHigh));
   }
 
   // From the extremes of σ′ (with the margin) over the cells the ball's box
@@ -273,11 +278,44 @@ public:
   int LevelCount() const { return static_cast<int>(this->Levels.size()); }
 
 private:
+  // The extremes of σ′ and of f′ on a cell, kept side by side so a ball
+  // reads both from one place.
+  struct CellRanges
+  {
+    double Low = std::numeric_limits<double>::infinity();
+    double High = -std::numeric_limits<double>::infinity();
+    double SourceLow = std::numeric_limits<double>::infinity();
+    double SourceHigh = -std::numeric_limits<double>::infinity();
+
+    void Take(double screening, double source)
+    {
+      Low = std::min(Low, screening);
+      High = std::max(High, screening);
+      SourceLow = std::min(SourceLow, source);
+      SourceHigh = std::max(SourceHigh, source);
+    }
+    void Merge(const CellRanges& o)
+    {
+      Low = std::min(Low, o.Low);
+      High = std::max(High, o.High);
+      SourceLow = std::min(SourceLow, o.SourceLow);
+      SourceHigh = std::max(SourceHigh, o.SourceHigh);
+    }
+    void Widen(double margin)
+    {
+      const double widen = margin * (High - Low);
+      Low -= widen;
+      High += widen;
+      const double widenSource = margin * (SourceHigh - SourceLow);
+      SourceLow -= widenSource;
+      SourceHigh += widenSource;
+    }
+  };
+
   struct Level
   {
     int Cells = 1;
-    std::vector<double> Low;
-    std::vector<double> High;
+    std::vector<CellRanges> Ranges;
   };
 
   BallScreening OnLevel(std::size_t level, const Vec<DIM>& center, double radius) const
@@ -290,14 +328,11 @@ private:
       first[i] = this->Clamp((center[i] - radius - this->Min[i]) / size[i], at.Cells);
       last[i] = this->Clamp((center[i] + radius - this->Min[i]) / size[i], at.Cells);
     }
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -lo;
+    CellRanges r;
     std::array<int, DIM> c = first;
     for (;;)
     {
-      const std::size_t cell = Flatten(c, at.Cells);
-      lo = std::min(lo, at.Low[cell]);
-      hi = std::max(hi, at.High[cell]);
+      r.Merge(at.Ranges[Flatten(c, at.Cells)]);
       int axis = 0;
       while (axis < DIM && ++c[axis] > last[axis])
       {
@@ -309,7 +344,11 @@ private:
         break;
       }
     }
-    return ScreeningFromRange(lo, hi);
+    BallScreening screening = ScreeningFromRange(r.Low, r.High);
+    screening.SourceLowest = r.SourceLow;
+    screening.SourceHighest = r.SourceHigh;
+    screening.SourceScale = this->SourceScale;
+    return screening;
   }
 
   static std::size_t CellCount(int cells)
@@ -355,6 +394,8 @@ private:
   Vec<DIM> Min;
   Vec<DIM> CellSize;
   std::vector<Level> Levels;
+  // The largest |f′| sampled anywhere in the box.
+  double SourceScale = 0.0;
 };
 // The coefficients of a problem with their majorant: what a Problem of the
 // varying equation holds (both shared, read-only, by every thread).

@@ -1,6 +1,7 @@
 // Tests of gridfree/coefficients/ScreeningMajorant.h: the bound grid's σ̄
 // for a ball bounds σ′ from above and 2|σ′| where σ′ < 0, its floor σ_c lies
-// below σ′ and σ′ keeps to its reported range, at points sampled densely in
+// below σ′ and σ′ and the source f′ keep to their reported ranges (and f′ to
+// the reported largest |f′|), at points sampled densely in
 // the ball, for balls of every size; it is tight where the coefficients
 // are flat (far below the global bound away from a steep step) and exactly 0
 // where σ′ vanishes; bad boxes and non-finite coefficients are refused.
@@ -59,6 +60,11 @@ TEST(ScreeningMajorant, BoundsEveryBallOfTheGrid)
         EXPECT_LE(bound.Floor, std::max(s, 0.0));
         EXPECT_LE(bound.Lowest, s);
         EXPECT_GE(bound.Highest, s);
+        // The source's range, which the walk's source roulette centres on.
+        const double f = Transform(c).Source;
+        EXPECT_LE(bound.SourceLowest, f);
+        EXPECT_GE(bound.SourceHighest, f);
+        EXPECT_GE(bound.SourceScale, std::abs(f));
         ++checked;
       }
     }
