@@ -13,7 +13,8 @@ point inside the head, gradient on:
     pvbatch ct_bioheat.py [--target 0.05] [--most 2048] [--smoothing 2.0]
 
 Prints one row per solve (points inside the head, seconds, walks, steps per
-walk, walks per second, RMS and largest standard error) and the ratio of
+walk, walks per second, RMS and largest standard error, and the gradient's
+RMS standard error) and the ratio of
 the costs at equal error, seconds × mean variance (time to an error scales
 as the variance; screened walks rarely stop at the target, because their
 uneven weights leave error bars the target mode does not trust, so most
