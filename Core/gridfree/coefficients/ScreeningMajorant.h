@@ -7,8 +7,10 @@
 // choice; the variance and the cost do. A collision at y carries the factor
 // σ̄ − σ′(y): positive where σ′ ≤ σ̄, larger than σ̄ where σ′ < 0, negative
 // where σ̄ < σ′. So σ̄ should bound σ′ on the ball from above and bound
-// 2|σ′| where σ′ is negative (weights at most 3/2), but no larger:
-// collisions become more frequent as σ̄R² grows. σ̄ = 0 says that σ′ ≡ 0 on
+// 4|σ′| where σ′ is negative (weights at most 5/4), but no larger:
+// collisions become more frequent as σ̄R² grows. (With 2|σ′|, weights up to
+// 3/2, the CT head's walks were cheaper but the steep tissue interfaces,
+// where σ′ has negative lobes, gave error bars with heavier tails.) σ̄ = 0 says that σ′ ≡ 0 on
 // the ball (a harmonic step, no collisions).
 //
 // A floor σ_c ∈ [0, σ̄] below σ′ on the ball lets the walk take the part σ_c
@@ -81,7 +83,7 @@ inline BallScreening ScreeningFromRange(double lowest, double highest)
   BallScreening s;
   s.Lowest = lowest;
   s.Highest = highest;
-  s.Bound = std::max({ highest, -2.0 * lowest, 0.0 });
+  s.Bound = std::max({ highest, -4.0 * lowest, 0.0 });
   s.Floor = std::min(std::max(lowest, 0.0), s.Bound * (15.0 / 16.0));
   return s;
 }

@@ -137,12 +137,13 @@ public:
   }
 
   // What every walk from one point shares, found once per point: the
-  // coefficients there and, for gradients, the first ball's radius (the
-  // distance to the boundary) and its screening.
+  // coefficients there and, for gradients, the distance to the boundary,
+  // the first ball's radius and its screening.
   struct Start
   {
     CoefficientSample<DIM> Coefficients;
     double Distance = std::numeric_limits<double>::quiet_NaN();
+    double Radius = std::numeric_limits<double>::quiet_NaN();
     BallScreening Range;
   };
 
@@ -159,8 +160,38 @@ public:
     {
       return start;
     }
-    start.Range = this->Majorant.ForBall(x0, start.Distance);
+    // The first ball need not touch the boundary (its sphere term is a walk
+    // from wherever it lands). Where σ′ varies a lot on the largest ball,
+    // its interior pairs, which cost two walks each, were more than half of
+    // a sample's walks on the CT head; a ball a few times smaller sees a
+    // narrower range of σ′ and a smaller ∫G, so it is halved while that
+    // weight exceeds 1, at most kFirstBallHalvings times.
+    start.Radius = start.Distance;
+    start.Range = this->Majorant.ForBall(x0, start.Radius);
+    for (int halving = 0; halving < kFirstBallHalvings &&
+         InteriorWeight(start.Radius, start.Range) > 1.0 &&
+         start.Radius > 2.0 * this->Settings.Epsilon;
+         ++halving)
+    {
+      start.Radius *= 0.5;
+      start.Range = this->Majorant.ForBall(x0, start.Radius);
+    }
     return start;
+  }
+
+  // ∫G_σ̄ over B(x, r) times the largest |σ̄ − σ′| there: the size of an
+  // interior pair's weights in the first ball.
+  static double InteriorWeight(double r, const BallScreening& range)
+  {
+    const double spread = std::max(range.Highest - range.Bound, range.Bound - range.Lowest);
+    if (!(spread > 0.0))
+    {
+      return 0.0;
+    }
+    const double integral = range.Bound > 0.0
+      ? YukawaGreensFunction<DIM>(r, range.Bound).Integral()
+      : HarmonicGreensFunction<DIM>(r).Integral();
+    return integral * spread;
   }
 
   // One sample at x0 (`start` from StartAt(x0)) into `sample`.
@@ -200,7 +231,7 @@ private:
   void FirstBall(const Vec<DIM>& x0, const Start& start, RandomStream& rng, int& steps,
     double& value, Vec<DIM>& gradient)
   {
-    const double r0 = start.Distance;
+    const double r0 = start.Radius;
     const BallScreening& range = start.Range;
     const double sbar = range.Bound;
     double weightC = 1.0, kappa = DIM / r0;
@@ -422,6 +453,8 @@ private:
   static constexpr double kInteriorRoulette = 4.0;
   // The most interior pairs of the first ball.
   static constexpr int kMostInteriorPairs = 16;
+  // The first ball is at least 1/2^this of the distance to the boundary.
+  static constexpr int kFirstBallHalvings = 3;
   // Walks whose weight falls below this play Russian roulette.
   static constexpr double kRouletteWeight = 0.1;
   // A collision's ball B(y, R − |y − x|) is used without a query when it is
