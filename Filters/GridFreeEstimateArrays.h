@@ -113,13 +113,12 @@ struct EstimateArrays
     }
     this->Reliable->SetValue(i, check.Reliable ? 1 : 0);
     this->VarianceError->SetValue(i, check.VarianceRelativeError);
-    if (check.WeightVariation > ErrorBarRule().MaxWeightVariation)
+    // The reasons of unreliable points only (uneven weights that the walk
+    // values' bounds clear are no reason).
+    if (!check.Reliable)
     {
-      this->UnevenWeights.fetch_add(1, std::memory_order_relaxed);
-    }
-    else if (!check.Reliable)
-    {
-      this->OneWalkSpread.fetch_add(1, std::memory_order_relaxed);
+      (check.UnevenWeights ? this->UnevenWeights : this->OneWalkSpread)
+        .fetch_add(1, std::memory_order_relaxed);
     }
     this->Steps->SetValue(i, counters.MeanSteps());
     this->WalkCount->SetValue(

@@ -82,4 +82,13 @@ int ExpressionComponents(const std::string& expression, std::string& reason)
                                    : ParserReason(errors->Message);
   return 0;
 }
+
+bool ExpressionReadsPosition(const std::string& expression)
+{
+  vtkNew<vtkExprTkFunctionParser> parser;
+  vtkNew<ErrorCollector> errors; // a position it reads is an error here, not a message
+  parser->AddObserver(vtkCommand::ErrorEvent, errors);
+  parser->SetFunction(expression.c_str());
+  return !(parser->IsScalarResult() || parser->IsVectorResult());
+}
 } // namespace gridfree

@@ -75,6 +75,10 @@ private:
 // vector (3, with iHat, jHat, kHat); 0 with the parser's reason when it does
 // not parse.
 int ExpressionComponents(const std::string& expression, std::string& reason);
+
+// Whether `expression` reads x, y or z: false when it parses with none of
+// them defined (a constant, whose value then bounds it).
+bool ExpressionReadsPosition(const std::string& expression);
 } // namespace gridfree
 
 #endif

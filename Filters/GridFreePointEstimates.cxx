@@ -657,8 +657,7 @@ private:
         continue;
       }
       const ErrorBarCheck& check = b.ErrorBars[i];
-      const bool isUneven = check.WeightVariation > ErrorBarRule().MaxWeightVariation;
-      count += uneven ? (isUneven ? 1 : 0) : (!isUneven && !check.Reliable ? 1 : 0);
+      count += !check.Reliable && check.UnevenWeights == uneven ? 1 : 0;
     }
     return count;
   }

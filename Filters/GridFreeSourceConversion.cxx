@@ -6,6 +6,8 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkGenericCell.h"
@@ -63,6 +65,9 @@ public:
     double PlaneZ = 0.0;
     std::vector<float> Values;
     Vec<DIM> Min, Max;
+    // Every cell interpolates linearly (non-negative weights): the values'
+    // range bounds f (ValueBounds).
+    bool LinearCells = false;
   };
 
   explicit DataSetSource(std::shared_ptr<const Shared> shared)
@@ -109,6 +114,19 @@ public:
     boxMin = this->Data->Min;
     boxMax = this->Data->Max;
     return true;
+  }
+
+  // Higher-order cells' interpolation may overshoot the point values, so
+  // only linear cells give a range.
+  bool ValueBounds(int c, double& lowest, double& highest) const override
+  {
+    const Shared& s = *this->Data;
+    if (!s.LinearCells || c < 0 || c >= s.Components)
+    {
+      return false;
+    }
+    StoredValueRange(s.Values, s.Components, c, lowest, highest);
+    return std::isfinite(lowest) && std::isfinite(highest);
   }
 
 private:
@@ -159,7 +177,12 @@ public:
     : Expression(expression)
     , Components(components)
     , PlaneZ(planeZ)
+    , Constant(!ExpressionReadsPosition(expression))
   {
+    if (this->Constant)
+    {
+      this->Expression.Evaluate({ 0.0, 0.0, 0.0 }, this->ConstantValue);
+    }
   }
 
   void Evaluate(const Vec<DIM>& y, double* f) override
@@ -176,10 +199,23 @@ public:
 
   bool SupportBounds(Vec<DIM>&, Vec<DIM>&) const override { return false; }
 
+  // Known only for an expression that does not read x, y or z: a constant.
+  bool ValueBounds(int c, double& lowest, double& highest) const override
+  {
+    if (!this->Constant || c < 0 || c >= this->Components)
+    {
+      return false;
+    }
+    lowest = highest = this->ConstantValue[this->Expression.Components() == 1 ? 0 : c];
+    return std::isfinite(lowest);
+  }
+
 private:
   ParsedExpression Expression;
   int Components;
   double PlaneZ;
+  bool Constant = false;
+  double ConstantValue[3] = { 0.0, 0.0, 0.0 };
 };
 
 // Several expressions in x, y, z, one per component: boundary values g (and
@@ -265,6 +301,18 @@ public:
     return true;
   }
 
+  bool ValueBounds(int c, double& lowest, double& highest) const override
+  {
+    double lowB = 0.0, highB = 0.0;
+    if (!this->A->ValueBounds(c, lowest, highest) || !this->B->ValueBounds(c, lowB, highB))
+    {
+      return false;
+    }
+    lowest += lowB;
+    highest += highB;
+    return true;
+  }
+
 private:
   std::unique_ptr<VolumeSource<DIM>> A, B;
   std::vector<double> Scratch, GradientScratch;
@@ -320,6 +368,23 @@ VolumeSourceFactory<DIM> MakeImageSource(
   };
 }
 
+// Whether every cell's interpolation weights are non-negative, so that f stays
+// within its point values: linear cells, but not polyhedra (their mean value
+// coordinates turn negative where a polyhedron is not convex) nor
+// higher-order cells (their weights overshoot).
+bool InterpolatesWithinPointValues(vtkDataSet* data)
+{
+  vtkNew<vtkCellTypes> types;
+  data->GetCellTypes(types);
+  bool linear = types->GetNumberOfTypes() > 0;
+  for (vtkIdType t = 0; t < types->GetNumberOfTypes(); ++t)
+  {
+    const unsigned char type = types->GetCellType(t);
+    linear = linear && vtkCellTypes::IsLinear(type) && type != VTK_POLYHEDRON;
+  }
+  return linear;
+}
+
 template <int DIM>
 VolumeSourceFactory<DIM> MakeDataSetSource(
   vtkDataSet* data, vtkDataArray* array, int components, double planeZ)
@@ -342,6 +407,7 @@ VolumeSourceFactory<DIM> MakeDataSetSource(
   shared->PlaneZ = planeZ;
   shared->Values = CopyValues(array, components);
   BoundsOf<DIM>(data, shared->Min, shared->Max);
+  shared->LinearCells = InterpolatesWithinPointValues(shared->Data);
   std::shared_ptr<const typename DataSetSource<DIM>::Shared> constShared = shared;
   return [constShared](double) -> std::unique_ptr<VolumeSource<DIM>> {
     return std::make_unique<DataSetSource<DIM>>(constShared);

@@ -17,14 +17,13 @@ import os
 import random
 import sys
 
-import paraview.simple as pvs
 from paraview import servermanager
-from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "Documentation", "Examples"))
+sys.path.insert(0, HERE)
 import ct_workflow  # noqa: E402
+import seeded_solves  # noqa: E402
 
 parser = argparse.ArgumentParser()
 parser.add_argument("--seeds", type=int, default=10)
@@ -48,24 +47,12 @@ unflagged = [i for i in range(first.GetNumberOfPoints())
 random.seed(3)
 ids = flagged + random.sample(unflagged, min(args.sample, len(unflagged)))
 
-points = vtkPoints()
-for i in ids:
-    points.InsertNextPoint(first.GetPoint(i))
-cloud = vtkPolyData()
-cloud.SetPoints(points)
-producer = pvs.PVTrivialProducer()
-producer.GetClientSideObject().SetOutput(cloud)
-solver.Probe = producer
+solver.Probe = seeded_solves.point_probe(first, ids)
 solver.ComputeGradient = 0
 
 
 def solve(walks, seed):
-    solver.WalksPerPoint = walks
-    solver.Seed = seed
-    solver.UpdatePipeline()
-    a = servermanager.Fetch(solver).GetPointData()
-    return [(a.GetArray("T").GetValue(k), a.GetArray("T_Variance").GetValue(k),
-             a.GetArray("T_VarianceReliable").GetValue(k)) for k in range(len(ids))]
+    return seeded_solves.solve(solver, walks, seed, "T")
 
 
 reference = solve(args.reference, 99)

@@ -166,6 +166,7 @@ public:
     return this->Walker.Walk(x, escapeRadius, rng, sample, steps, returns);
   }
   double LastWeight() const { return this->Walker.LastWeight(); }
+  double FirstStepWeight() const { return this->Walker.FirstStepWeight(); }
   bool SourceSupportIsBounded() const { return this->Walker.SourceSupportIsBounded(); }
 
 private:
@@ -431,6 +432,7 @@ private:
         if (l.Weight >= 0)
         {
           this->Sample[l.Weight] = this->Walker.LastWeight();
+          counters.WeightReach = std::max(counters.WeightReach, this->Walker.FirstStepWeight());
         }
         for (int c = 0; c < nc; ++c)
         {
@@ -491,8 +493,10 @@ private:
             end = side == 0 || tailEnd != WalkEnd::Boundary ? tailEnd : end;
             if (l.Weight >= 0)
             {
-              // The value is C·(tail − …): the first ball's weight times the tail walk's.
+              // The value is C·(tail − …): the first ball's weight times the
+              // tail walk's, so no walk from this point keeps more than C.
               this->Sample[l.Weight] = weightC * this->Walker.LastWeight();
+              counters.WeightReach = std::max(counters.WeightReach, weightC);
             }
           }
           const Mat<DIM> nuNu = nu * nu.transpose();

@@ -101,15 +101,22 @@ struct WalkCounters
   std::uint64_t Steps = 0;
   std::uint64_t Escaped = 0;
   std::uint64_t Truncated = 0;
-  // Times a walk far outside was returned to the enclosing sphere.
+  // Times a walk far outside was returned to the enclosing sphere, or (the
+  // screened walk with sources) went on through a roulette step there.
   std::uint64_t Returns = 0;
   // The largest amount the value's control variate (DerivativeWalkOnSpheres:
   // C·b̄·ν, over every direction ν) could move one walk's value sample, seen
   // over the walks: with the data's bounds, how far an unseen walk's value
   // can lie (ErrorBarReliability.h).
   double ValueControlReach = 0.0;
+  // The largest weight a screened walk of the point can keep: its first
+  // ball's C, which every walk from the point shares (weights only shrink
+  // after it); 0 when not recorded. Bounds what an unseen walk can bring
+  // (ErrorBarReliability.h).
+  double WeightReach = 0.0;
 
   double MeanSteps() const { return Walks ? double(Steps) / double(Walks) : 0.0; }
+  double WeightReachOrOne() const { return this->WeightReach > 0.0 ? this->WeightReach : 1.0; }
   double EscapedFraction() const { return Walks ? double(Escaped) / double(Walks) : 0.0; }
   double TruncatedFraction() const { return Walks ? double(Truncated) / double(Walks) : 0.0; }
 
@@ -121,6 +128,7 @@ struct WalkCounters
     this->Truncated += other.Truncated;
     this->Returns += other.Returns;
     this->ValueControlReach = std::max(this->ValueControlReach, other.ValueControlReach);
+    this->WeightReach = std::max(this->WeightReach, other.WeightReach);
   }
 };
 
@@ -248,6 +256,10 @@ public:
 
   // The weight the last walk ended with (1 for the unscreened equations).
   double LastWeight() const { return this->EndWeight; }
+  // The weight after the last walk's first step (1 for the unscreened
+  // equations and walks that took none): every walk from the same start
+  // point shares it, and keeps no more.
+  double FirstStepWeight() const { return this->FirstWeight; }
 
   // Centre and radius of the sphere enclosing the boundary and the sources
   // with bounded support; a volume source with unbounded support (an
@@ -298,6 +310,7 @@ public:
         if (weightSlot >= 0)
         {
           this->Sample[weightSlot] = this->EndWeight;
+          counters.WeightReach = std::max(counters.WeightReach, this->FirstWeight);
         }
         return end;
       });
@@ -324,6 +337,7 @@ private:
     const double escape2 = escapeRadius * escapeRadius;
     std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
     double weight = 1.0;
+    this->FirstWeight = 1.0;
     double ballIntegrals = 0.0; // tree walking: Σ_k ∫_{B_k} G = Σ_k R_k²/(2n)
     WalkEnd end = WalkEnd::Boundary;
     bool hasBoundaryValue = true;
@@ -424,10 +438,22 @@ private:
             hasBoundaryValue = false;
             break;
           }
+          if (this->Sources.Active())
+          {
+            // The survivor keeps its weight after gathering the source:
+            // what it gathers is then no longer bounded by the weight's
+            // decay, which the error-bar rule's bounds assume (Problem.h,
+            // SourceReach). Counted as a return, which turns them off.
+            ++returns;
+          }
         }
         else
         {
           weight *= boundaryWeight;
+          if (steps == 0)
+          {
+            this->FirstWeight = boundaryWeight;
+          }
         }
       }
 
@@ -543,6 +569,7 @@ private:
   double Radius = 0.0;
   bool BoundedSupport = true;
   double EndWeight = 1.0;
+  double FirstWeight = 1.0;
   // Scratch (one estimator per thread): boundary values at the walk's end,
   // inner-walk values and source integrals, the running source sum, a sample.
   std::vector<double> BoundaryValue;

@@ -143,7 +143,7 @@ struct PointWalks
     return reached &&
       CheckErrorBar(stats, 0, valueComponents, weightSlot,
         dataVary && counters.Steps > 0 && status != DerivativeStatus::OneSided,
-        rule ? *rule : ErrorBarRule(), counters.ValueControlReach)
+        rule ? *rule : ErrorBarRule(), counters.ValueControlReach, counters.WeightReachOrOne())
         .Reliable;
   }
 

@@ -144,30 +144,79 @@ private:
     // so do varying coefficients.
     this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
       (!this->Sources || this->Sources->Empty());
-    // The plain screened walk with Dirichlet data from a table and no
-    // sources gives walk values W·g with 0 ≤ W ≤ 1: bounded, which lets
-    // uneven weights pass where no unseen walk could move the mean far
-    // (ErrorBarReliability.h).
-    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients &&
-      (!this->Sources || this->Sources->Empty()))
+    // The plain screened walk with Dirichlet data from a table gives walk
+    // values W·g + (1 − W)·v with 0 ≤ W ≤ 1 and v from a volume source of
+    // known range (SteadyRange): bounded, which lets uneven weights pass
+    // where no unseen walk could move the mean far (ErrorBarReliability.h).
+    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients)
     {
-      const int nc = this->Shape->Components();
-      std::vector<double> low(static_cast<std::size_t>(nc)), high(low.size());
+      const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
+      std::vector<double> low(nc), high(nc), steadyLow(nc), steadyHigh(nc);
       bool known = true;
-      for (int c = 0; c < nc && known; ++c)
+      for (std::size_t k = 0; k < nc && known; ++k)
       {
-        known = this->Shape->ValueBounds(
-          c, low[static_cast<std::size_t>(c)], high[static_cast<std::size_t>(c)]);
-        low[static_cast<std::size_t>(c)] = std::min(low[static_cast<std::size_t>(c)], 0.0);
-        high[static_cast<std::size_t>(c)] = std::max(high[static_cast<std::size_t>(c)], 0.0);
+        const int c = static_cast<int>(k);
+        known = this->Shape->ValueBounds(c, low[k], high[k]) &&
+          this->SteadyRange(c, steadyLow[k], steadyHigh[k]);
+        low[k] = std::min(low[k], 0.0);
+        high[k] = std::max(high[k], 0.0);
       }
       if (known)
       {
         this->BoundedWalks.WalkLow = std::move(low);
         this->BoundedWalks.WalkHigh = std::move(high);
+        this->BoundedWalks.SteadyLow = std::move(steadyLow);
+        this->BoundedWalks.SteadyHigh = std::move(steadyHigh);
       }
     }
     this->BuildSourceDensity();
+  }
+
+  // The range [low, high] of v for component c, where one screened walk (or
+  // a derivative walk's value) gives W·g − S = W·g + (1 − W)·v, S what it
+  // gathers from the sources; false when S is not bounded. A step on
+  // B(x, R) adds W_k·Σ w_j f(y_j), W_k the weight before the step;
+  // Green's-function sampling takes one y with w = ∫G, the
+  // multiple-importance and source-density estimators two with w ≤ ∫G each
+  // (their balance heuristic's weights), uniform sampling w = |B|·G(y),
+  // unbounded near x. And c∫G = 1 − C on every ball (the constant solution
+  // of the screened equation), while the step multiplies W by C, so
+  // Σ W_k·∫G_k = (1 − W)/c: with G's sampling v = −f̄/c, f̄ a weighted mean
+  // of f's samples, in [−f_max/c, −f_min/c]; with two samples v lies in
+  // 2·[−max(0, f_max), −min(0, f_min)]/c. Point and curve sources are
+  // sampled by G itself (unbounded near them).
+  bool SteadyRange(int c, double& low, double& high) const
+  {
+    low = high = 0.0;
+    if (!this->Sources || this->Sources->Empty())
+    {
+      return true;
+    }
+    const SourceSet<DIM>& s = *this->Sources;
+    if ((s.Points && !s.Points->Empty()) || (s.Curves && !s.Curves->Empty()) ||
+      !s.MakeVolume || this->Walk.Sampling == SourceSampling::Uniform ||
+      !(this->Walk.ScreeningCoefficient > 0.0))
+    {
+      return false;
+    }
+    double fLow = 0.0, fHigh = 0.0;
+    const std::unique_ptr<VolumeSource<DIM>> volume = s.MakeVolume(this->Shape->Diagonal());
+    if (!volume || !volume->ValueBounds(c, fLow, fHigh))
+    {
+      return false;
+    }
+    const double sc = this->Walk.ScreeningCoefficient;
+    if (this->Walk.Sampling == SourceSampling::GreensFunction)
+    {
+      low = -fHigh / sc;
+      high = -fLow / sc;
+    }
+    else
+    {
+      low = -2.0 * std::max(fHigh, 0.0) / sc;
+      high = -2.0 * std::min(fLow, 0.0) / sc;
+    }
+    return std::isfinite(low) && std::isfinite(high);
   }
 
 public:
@@ -301,12 +350,13 @@ public:
   {
     return CheckErrorBar(stats, layout.Value, this->SolutionComponents(), layout.Weight,
       this->SpreadPossible(counters, status), this->ErrorRule(counters),
-      counters.ValueControlReach);
+      counters.ValueControlReach, counters.WeightReachOrOne());
   }
 
   // The rule a point's error bar is judged by: with the bounds of its walk
   // values where they are known (the screened walk with a value table and
-  // no sources), for walks never returned from far outside. A value's
+  // no sources or a volume source of known range), for walks never returned
+  // from far outside. A value's
   // control variate may move a sample beyond them by
   // WalkCounters::ValueControlReach, the slack CheckErrorBar is given.
   const ErrorBarRule& ErrorRule(const WalkCounters& counters) const

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -71,6 +72,19 @@ public:
     boxMin = this->Data->Min;
     boxMax = this->Data->Max;
     return this->Data->Bounded;
+  }
+
+  // Trilinear weights are non-negative and sum to 1, and f is 0 outside the
+  // grid: the stored values' range with 0. (A scan of the values: asked
+  // once per problem, not per walk.)
+  bool ValueBounds(int c, double& lowest, double& highest) const override
+  {
+    if (c < 0 || c >= this->Data->Components)
+    {
+      return false;
+    }
+    StoredValueRange(this->Data->Values, this->Data->Components, c, lowest, highest);
+    return std::isfinite(lowest) && std::isfinite(highest);
   }
 
 private:

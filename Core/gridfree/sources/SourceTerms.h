@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace gridfree
@@ -38,6 +39,16 @@ public:
   virtual void Evaluate(const Vec<DIM>& y, double* f) = 0;
   // The box outside which f vanishes; false when f has unbounded support.
   virtual bool SupportBounds(Vec<DIM>& boxMin, Vec<DIM>& boxMax) const = 0;
+
+  // The range [lowest, highest] of component c of f everywhere (0 included
+  // where f vanishes outside its data); false when it is not known. It
+  // bounds what one screened walk can gather from the source, which the
+  // error-bar rule uses (Problem.h, ErrorBarReliability.h). Sources that
+  // cannot prove a range keep this default.
+  virtual bool ValueBounds(int /*c*/, double& /*lowest*/, double& /*highest*/) const
+  {
+    return false;
+  }
 
   // Writes f(y) (components numbers) and ∇f(y) (components × DIM numbers,
   // gradient[c·DIM + i] = ∂f_c/∂y_i). The Hessian's source term needs ∇f
@@ -74,6 +85,22 @@ public:
 private:
   double DifferenceStep = 0.0;
 };
+
+// The range of component c of values stored `components` per point, with 0
+// (the value outside the data): what an interpolation with non-negative
+// weights that sum to at most 1 can give.
+inline void StoredValueRange(
+  const std::vector<float>& values, int components, int c, double& lowest, double& highest)
+{
+  lowest = 0.0;
+  highest = 0.0;
+  for (std::size_t k = static_cast<std::size_t>(c); k < values.size();
+       k += static_cast<std::size_t>(components))
+  {
+    lowest = std::min(lowest, static_cast<double>(values[k]));
+    highest = std::max(highest, static_cast<double>(values[k]));
+  }
+}
 
 // The concentrated sources, shared read-only by all threads.
 template <int DIM>

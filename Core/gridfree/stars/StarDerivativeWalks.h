@@ -111,6 +111,7 @@ public:
     return this->Walker.Walk(x, rng, sample, steps);
   }
   double LastWeight() const { return 1.0; }
+  double FirstStepWeight() const { return 1.0; }
   bool SourceSupportIsBounded() const { return this->Walker.SourceSupportIsBounded(); }
   std::uint64_t BackFaceHits() const { return this->Walker.BackFaceHits(); }
 

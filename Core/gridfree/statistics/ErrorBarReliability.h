@@ -38,17 +38,27 @@
 //
 // Uneven weights are harmless when the values a walk can take are bounded
 // and the bound is near: a walk the point has not seen yet can move its
-// mean by at most D/N, D the farthest a walk value can lie from the mean
-// (the plain screened walk with Dirichlet data in [g_min, g_max] gives
-// values W·g in [min(0, g_min), max(0, g_max)], since 0 ≤ W ≤ 1), which is
-// D/(s√N) standard errors. Where that is at most MaxUnseenShift (2) for
-// every component, rule 1 does not flag: a 2D screened problem with
+// mean by at most D/N, D the farthest a walk value can lie from the mean,
+// which is D/(s√N) standard errors. Where that is at most MaxUnseenShift
+// (2) for every component, rule 1 does not flag: a 2D screened problem with
 // I0(kr) data (c = 9) had right error bars (mean z² 0.91) at the 93 of 300
 // points rule 1 flagged, all with D/(s√N) ≤ 0.8, while the wrong points of
-// the exponential and Yukawa data above have D/(s√N) in the hundreds. The
-// value's control variate (derivative walks) may move a sample beyond the
-// data's bounds by C·|b̄|: the slack CheckErrorBar is given
-// (WalkCounters::ValueControlReach, the largest seen).
+// the exponential and Yukawa data above have D/(s√N) in the hundreds.
+//
+// The bound: the plain screened walk with Dirichlet data in [g_min, g_max]
+// and a volume source in [f_min, f_max] sampled by G gives values
+// W·g + (1 − W)·v, with v within the steady values [−f_max/c, −f_min/c]
+// (Problem::SourceReach) and W the weight the walk kept (0 ≤ W ≤ 1; g
+// taken with 0, for walks cut short). W is at most the first ball's C,
+// which every walk of the point shares (WalkCounters::WeightReach): deep in
+// a strongly screened domain no walk, seen or not, can bring back much of
+// g, and the bound shrinks with that C. (The CT head's bioheat solve with
+// the brain's constants flagged 1,415 of its 1,539 points without the
+// source's range, 427 of 1,500 (300 points, five seeds) with it but W ≤ 1,
+// and none with W ≤ C; the error bars were right at all of them.) The value's
+// control variate (derivative walks) may move a sample beyond these bounds
+// by C·|b̄|: the slack CheckErrorBar is given (WalkCounters::
+// ValueControlReach, the largest seen).
 //
 // A point is unreliable when any holds. What it does not catch: a tail
 // that no walk of the point has reached yet while the walks seen still
@@ -77,10 +87,13 @@ struct ErrorBarRule
   double MaxWeightVariation = 0.5;
   // Above this M3²/M2³, the spread is made by a single walk.
   double MaxSkewShare = 0.5;
-  // The values one walk can give, per value component (empty: unknown),
-  // and the largest shift of the mean, in standard errors, that one walk
-  // not yet seen may make for uneven weights not to flag (see above).
+  // The values one walk can give, per value component (empty: unknown), as
+  // W·g + (1 − W)·v: g in [WalkLow, WalkHigh] (0 included), v in
+  // [SteadyLow, SteadyHigh] (empty: v = 0, no sources); and the largest
+  // shift of the mean, in standard errors, that one walk not yet seen may
+  // make for uneven weights not to flag (see above).
   std::vector<double> WalkLow, WalkHigh;
+  std::vector<double> SteadyLow, SteadyHigh;
   double MaxUnseenShift = 2.0;
 };
 
@@ -103,11 +116,31 @@ struct ErrorBarCheck
   // standard errors (D/(s√N), the largest over the value's components);
   // +inf when the walk values are not known to be bounded.
   double UnseenWalkShift = std::numeric_limits<double>::infinity();
+  // The weights are uneven and no bound of the walk values clears them: one
+  // of the reasons for Reliable = false.
+  bool UnevenWeights = false;
   bool Reliable = true;
 };
 
+// The range [low, high] of W·g + (1 − W)·v over W in [0, weightReach], g
+// in [WalkLow, WalkHigh] and v in [SteadyLow, SteadyHigh] of component c
+// (linear in W: its ends are the extremes).
+inline void WalkValueRange(const ErrorBarRule& rule, int c, double weightReach, double& low,
+  double& high)
+{
+  const std::size_t k = static_cast<std::size_t>(c);
+  const bool steady = rule.SteadyLow.size() > k && rule.SteadyHigh.size() > k;
+  const double vLow = steady ? rule.SteadyLow[k] : 0.0;
+  const double vHigh = steady ? rule.SteadyHigh[k] : 0.0;
+  const double w = std::min(std::max(weightReach, 0.0), 1.0);
+  low = std::min(vLow, w * rule.WalkLow[k] + (1.0 - w) * vLow);
+  high = std::max(vHigh, w * rule.WalkHigh[k] + (1.0 - w) * vHigh);
+}
+
 // Checks one point's statistics (`slack`: how far beyond the rule's walk
-// value bounds a value sample may lie, for control variates): the value's components are slots
+// value bounds a value sample may lie, for control variates;
+// `weightReach`: the largest weight a walk of the point can keep, see
+// above): the value's components are slots
 // valueSlot .. valueSlot + valueComponents − 1 (they must keep higher sums:
 // RunningStatistics' tailComponents), the walk weight is at weightSlot (−1:
 // none). `spreadPossible`: the walks took steps and the data are not
@@ -116,7 +149,7 @@ struct ErrorBarCheck
 // make a point unreliable.
 inline ErrorBarCheck CheckErrorBar(const RunningStatistics& stats, int valueSlot,
   int valueComponents, int weightSlot, bool spreadPossible,
-  const ErrorBarRule& rule = ErrorBarRule(), double slack = 0.0)
+  const ErrorBarRule& rule = ErrorBarRule(), double slack = 0.0, double weightReach = 1.0)
 {
   ErrorBarCheck check;
   double worst = std::numeric_limits<double>::quiet_NaN();
@@ -153,19 +186,19 @@ inline ErrorBarCheck CheckErrorBar(const RunningStatistics& stats, int valueSlot
     for (int c = 0; c < valueComponents; ++c)
     {
       const double mean = stats.GetMean(valueSlot + c);
-      const double far = std::max(rule.WalkHigh[static_cast<std::size_t>(c)] - mean,
-                           mean - rule.WalkLow[static_cast<std::size_t>(c)]) +
-        slack;
+      double low = 0.0, high = 0.0;
+      WalkValueRange(rule, c, weightReach, low, high);
+      const double far = std::max(high - mean, mean - low) + slack;
       const double spread = std::sqrt(stats.SampleVariance(valueSlot + c) * n);
       const double s = far > 0.0 ? far / spread : 0.0;
       shift = std::isnan(s) ? std::numeric_limits<double>::infinity() : std::max(shift, s);
     }
     check.UnseenWalkShift = shift;
   }
-  const bool unevenWeights = check.WeightVariation > rule.MaxWeightVariation &&
+  check.UnevenWeights = check.WeightVariation > rule.MaxWeightVariation &&
     !(check.UnseenWalkShift <= rule.MaxUnseenShift);
   check.Reliable =
-    !check.NoSpread && !(check.SkewShare > rule.MaxSkewShare) && !unevenWeights;
+    !check.NoSpread && !(check.SkewShare > rule.MaxSkewShare) && !check.UnevenWeights;
   return check;
 }
 } // namespace gridfree
