@@ -173,11 +173,12 @@ template <int DIM>
 class ExpressionSource : public VolumeSource<DIM>
 {
 public:
-  ExpressionSource(const std::string& expression, int components, double planeZ)
+  // `constant`: the expression reads none of x, y, z (ExpressionReadsPosition).
+  ExpressionSource(const std::string& expression, int components, double planeZ, bool constant)
     : Expression(expression)
     , Components(components)
     , PlaneZ(planeZ)
-    , Constant(!ExpressionReadsPosition(expression))
+    , Constant(constant)
   {
     if (this->Constant)
     {
@@ -635,9 +636,12 @@ bool ConvertSource(vtkDataSet* source, vtkDataArray* array, const std::string& e
     {
       fieldComponents = differentiate ? 3 : components;
     }
-    parsed = [expression, fieldComponents, planeZ](
+    // Parsed once here: every thread's block makes its own source.
+    const bool constant = !ExpressionReadsPosition(expression);
+    parsed = [expression, fieldComponents, planeZ, constant](
                double lengthScale) -> std::unique_ptr<VolumeSource<DIM>> {
-      auto volume = std::make_unique<ExpressionSource<DIM>>(expression, fieldComponents, planeZ);
+      auto volume =
+        std::make_unique<ExpressionSource<DIM>>(expression, fieldComponents, planeZ, constant);
       // Central differences with a step of 1e-5 of the problem's size:
       // small against the domain, large against rounding for points within
       // a few diagonals of it. Without a length scale the base class's step,
