@@ -443,7 +443,7 @@ private:
             // The survivor keeps its weight after gathering the source:
             // what it gathers is then no longer bounded by the weight's
             // decay, which the error-bar rule's bounds assume (Problem.h,
-            // SourceReach). Counted as a return, which turns them off.
+            // SteadyRange). Counted as a return, which turns them off.
             ++returns;
           }
         }

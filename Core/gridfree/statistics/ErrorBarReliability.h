@@ -48,7 +48,7 @@
 // The bound: the plain screened walk with Dirichlet data in [g_min, g_max]
 // and a volume source in [f_min, f_max] sampled by G gives values
 // W·g + (1 − W)·v, with v within the steady values [−f_max/c, −f_min/c]
-// (Problem::SourceReach) and W the weight the walk kept (0 ≤ W ≤ 1; g
+// (Problem::SteadyRange) and W the weight the walk kept (0 ≤ W ≤ 1; g
 // taken with 0, for walks cut short). W is at most the first ball's C,
 // which every walk of the point shares (WalkCounters::WeightReach): deep in
 // a strongly screened domain no walk, seen or not, can bring back much of
