@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace gridfree
@@ -88,7 +89,8 @@ private:
 
 // The range of component c of values stored `components` per point, with 0
 // (the value outside the data): what an interpolation with non-negative
-// weights that sum to at most 1 can give.
+// weights that sum to at most 1 can give. NaN when a value is not finite
+// (std::min would skip a NaN, and the range would claim a bound it lacks).
 inline void StoredValueRange(
   const std::vector<float>& values, int components, int c, double& lowest, double& highest)
 {
@@ -97,8 +99,14 @@ inline void StoredValueRange(
   for (std::size_t k = static_cast<std::size_t>(c); k < values.size();
        k += static_cast<std::size_t>(components))
   {
-    lowest = std::min(lowest, static_cast<double>(values[k]));
-    highest = std::max(highest, static_cast<double>(values[k]));
+    const double v = static_cast<double>(values[k]);
+    if (!std::isfinite(v))
+    {
+      lowest = highest = std::numeric_limits<double>::quiet_NaN();
+      return;
+    }
+    lowest = std::min(lowest, v);
+    highest = std::max(highest, v);
   }
 }
 
