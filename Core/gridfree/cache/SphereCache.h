@@ -1200,30 +1200,23 @@ private:
     curves->ForEachPieceInBall(s.Centre, s.Radius, scratch,
       [&](std::uint32_t segment, const Vec<DIM>& a, const Vec<DIM>& d, double t0, double t1,
         const double* s0, const double* s1) {
-        const double length = d.norm();
-        const Vec<DIM> along = d / length;
-        // The line's foot from x, its distance h, and the piece's ends in
-        // arc length from the foot.
-        const double foot = (x - a).dot(along);
-        const double h = std::max((a + foot * along - x).norm(), 1e-12 * s.Radius);
-        const double u0 = std::asinh((t0 * length - foot) / h);
-        const double u1 = std::asinh((t1 * length - foot) / h);
-        const double width = (u1 - u0) / strata;
+        const NearLinePiece<DIM> near(a, d, t0, t1, x, 1e-12 * s.Radius);
+        const Vec<DIM> along = d / near.Length;
+        const double width = near.Width() / strata;
         std::vector<double> sum(first.size(), 0.0), squares(first.size(), 0.0);
         for (int k = 0; k < strata; ++k)
         {
           for (int draw = 0; draw < 2; ++draw)
           {
             RandomStream random(HashCombine(key, segment), static_cast<std::uint64_t>(2 * k + draw));
-            const double u = u0 + width * (k + random.NextDouble());
-            const double l = foot + h * std::sinh(u);
-            const double t = std::clamp(l / length, t0, t1);
+            const double u = near.U0 + width * (k + random.NextDouble());
+            const double t = near.ParameterAt(u);
             const Vec<DIM> y = a + t * d;
             const double r = (y - x).norm();
             const Vec<DIM> w = r > 0.0 ? Vec<DIM>((y - x) / r) : along;
             const double G = this->BallGreen(at, s, y, r, w, atY, dG, withHessian);
             // dl = h cosh u du = |x − y| du (per unit of u).
-            const double jacobian = h * std::cosh(u);
+            const double jacobian = near.Jacobian(u);
             for (int c = 0; c < nc; ++c)
             {
               const double strength = (1.0 - t) * s0[c] + t * s1[c];

@@ -6,9 +6,10 @@
 //
 // * a point source of strength s at z contributes s G(x, z) when |z - x| < R;
 // * a curve source gamma with strength s (linear along each segment)
-//   contributes L s(z) G(x, z), where z is uniform (w.r.t. arc length) on
-//   gamma inside B and L is the length of that part. This is an unbiased,
-//   one-sample estimate of the integral of s G over gamma inside B.
+//   contributes s(z) G(x, z) / p(z), where z is drawn on gamma inside B with
+//   density p (w.r.t. arc length) proportional to 1/|z - x|, which cancels
+//   G's pole in 3D. This is an unbiased, one-sample estimate of the integral
+//   of s G over gamma inside B.
 //
 // This file only does the geometry and the sampling; the caller supplies the
 // Green's function. Both source sets are indexed by a BallQueryTree, so a
@@ -157,6 +158,58 @@ private:
 };
 
 //------------------------------------------------------------------------------
+/// A piece a + t d, t in [t0, t1], of a segment seen from x in the coordinate
+/// u = asinh(l/h): l is arc length along the segment's line from x's foot on
+/// it and h the line's distance from x (at least `floor`, so that a point on
+/// the line keeps the integrals finite). dl = h cosh(u) du = r du with r the
+/// distance from x, so u uniform on [U0, U1] samples the piece with density
+/// ∝ 1/r, the Green's function's singularity in 3D, and Width() = ∫ dl/r.
+template <int DIM>
+struct NearLinePiece
+{
+  double Length = 0.0; // |d|
+  double Foot = 0.0;   // the foot, in arc length from a
+  double H = 0.0;
+  double U0 = 0.0, U1 = 0.0;
+  double T0 = 0.0, T1 = 0.0;
+
+  NearLinePiece(const Vec<DIM>& a, const Vec<DIM>& d, double t0, double t1, const Vec<DIM>& x,
+    double floor)
+    : Length(d.norm())
+    , T0(t0)
+    , T1(t1)
+  {
+    const Vec<DIM> along = d / this->Length;
+    this->Foot = (x - a).dot(along);
+    this->H = std::max((a + this->Foot * along - x).norm(), floor);
+    this->U0 = std::asinh((t0 * this->Length - this->Foot) / this->H);
+    this->U1 = std::asinh((t1 * this->Length - this->Foot) / this->H);
+  }
+
+  /// U1 − U0, without the cancellation of two large asinh of one sign:
+  /// asinh(q) − asinh(p) = asinh((q² − p²)/(q√(1+p²) + p√(1+q²))).
+  double Width() const
+  {
+    const double p = (this->T0 * this->Length - this->Foot) / this->H;
+    const double q = (this->T1 * this->Length - this->Foot) / this->H;
+    if (p * q > 0.0)
+    {
+      return std::asinh((q - p) * (q + p) / (q * std::sqrt(1.0 + p * p) + p * std::sqrt(1.0 + q * q)));
+    }
+    return this->U1 - this->U0;
+  }
+
+  /// The segment's parameter t at u, kept inside [T0, T1] against rounding.
+  double ParameterAt(double u) const
+  {
+    return std::clamp((this->Foot + this->H * std::sinh(u)) / this->Length, this->T0, this->T1);
+  }
+
+  /// dl/du at u: the distance from x to the point at u.
+  double Jacobian(double u) const { return this->H * std::cosh(u); }
+};
+
+//------------------------------------------------------------------------------
 /// Polyline curve sources: segments between vertices, with `components`
 /// strength values per vertex interpolated linearly along each segment.
 template <int DIM>
@@ -173,7 +226,7 @@ public:
       double T0, T1;         // parameter interval inside the ball
     };
     std::vector<Piece> Pieces;
-    std::vector<double> Cumulative; // running sum of the pieces' lengths
+    std::vector<double> Cumulative; // running sum of the pieces' ∫ dl/|z − x|
   };
 
   /// Replaces the curves. `segments` are pairs of indices into `vertices`;
@@ -244,32 +297,60 @@ public:
   Vec<DIM> BoundsMin() const { return this->Empty() ? Vec<DIM>::Zero() : this->Tree.Bounds().Min; }
   Vec<DIM> BoundsMax() const { return this->Empty() ? Vec<DIM>::Zero() : this->Tree.Bounds().Max; }
 
-  /// Samples z uniformly (w.r.t. arc length) on the part of the curves inside
-  /// the open ball B(x, radius). Writes z, its linearly interpolated strength
-  /// (Components() numbers) and the length L of that part; returns false, with
-  /// length = 0 and z, strength untouched, if the part is empty.
+  /// Samples z on the part of the curves inside the open ball B(x, radius),
+  /// with density (w.r.t. arc length) proportional to 1/|z − x|. The Green's
+  /// function of a ball behaves as 1/r near its centre in 3D, so a point
+  /// sampled uniformly along the curve gives L·G(r), which is large and rare
+  /// when a walk passes close to the curve (a heavy tail that a few hundred
+  /// walks misreport; in 2D, log r is milder); with this density the sample
+  /// is G(r)·r·∫dl/r, bounded by a logarithm of the pieces' extent over the
+  /// walk's distance h from their lines. Writes z, its linearly
+  /// interpolated strength (Components() numbers) and 1/p(z), the factor that
+  /// makes f(z)/p(z) an unbiased estimate of ∫ f dl over that part; returns
+  /// false, with inverseDensity = 0 and z, strength untouched, if the part is
+  /// empty. One random number per call.
   bool SampleInBall(const Vec<DIM>& x, double radius, RandomStream& rng, Scratch& scratch,
-    Vec<DIM>& z, double* strength, double& length) const
+    Vec<DIM>& z, double* strength, double& inverseDensity) const
   {
-    length = this->Clip(x, radius, scratch);
+    const double length = this->Clip(x, radius, scratch);
     if (!(length > 0.0))
     {
-      length = 0.0;
+      inverseDensity = 0.0;
       return false;
     }
 
-    // Pick the piece by its share of the length, then the point within it.
-    const double u = rng.NextDouble() * length;
-    const auto& cum = scratch.Cumulative;
-    std::size_t k = static_cast<std::size_t>(std::upper_bound(cum.begin(), cum.end(), u) - cum.begin());
-    // u can round up to the total; it then belongs to the last piece.
+    // Each piece's ∫ dl/r (NearLinePiece), then the piece by its share of
+    // the sum and u uniformly within it.
+    const double floor = 1e-12 * radius;
+    auto& cum = scratch.Cumulative;
+    cum.clear();
+    double total = 0.0;
+    for (const auto& piece : scratch.Pieces)
+    {
+      const SegmentData& s = this->Segments[piece.Segment];
+      total += NearLinePiece<DIM>(s.A, s.D, piece.T0, piece.T1, x, floor).Width();
+      cum.push_back(total);
+    }
+    if (!(total > 0.0) || !std::isfinite(total))
+    {
+      inverseDensity = 0.0;
+      return false;
+    }
+    const double v = rng.NextDouble() * total;
+    std::size_t k = static_cast<std::size_t>(std::upper_bound(cum.begin(), cum.end(), v) - cum.begin());
+    // v can round up to the total; it then belongs to the last piece.
     k = std::min(k, cum.size() - 1);
     const auto& piece = scratch.Pieces[k];
     const SegmentData& s = this->Segments[piece.Segment];
+    const NearLinePiece<DIM> near(s.A, s.D, piece.T0, piece.T1, x, floor);
     const double start = k == 0 ? 0.0 : cum[k - 1];
-    const double t = std::min(piece.T1, std::max(piece.T0, piece.T0 + (u - start) / s.Length));
+    const double width = cum[k] - start;
+    const double share = width > 0.0 ? std::clamp((v - start) / width, 0.0, 1.0) : 0.0;
+    const double u = near.U0 + share * near.Width();
+    const double t = near.ParameterAt(u);
 
     z = s.A + t * s.D;
+    inverseDensity = total * near.Jacobian(u);
     const std::size_t nc = static_cast<std::size_t>(this->NumberOfComponents);
     const double* s0 = this->Strengths.data() + static_cast<std::size_t>(s.V0) * nc;
     const double* s1 = this->Strengths.data() + static_cast<std::size_t>(s.V1) * nc;
@@ -313,12 +394,11 @@ private:
     std::int64_t V0, V1; // vertex indices, for the strengths
   };
 
-  /// Fills the scratch with the pieces of segments inside the ball and their
-  /// cumulative lengths; returns the total length.
+  /// Fills the scratch with the pieces of segments inside the ball; returns
+  /// their total length.
   double Clip(const Vec<DIM>& x, double radius, Scratch& scratch) const
   {
     scratch.Pieces.clear();
-    scratch.Cumulative.clear();
     const double radius2 = radius * radius;
     double sum = 0.0;
     this->Tree.ForEachOverlappingBall(x, radius, [&](std::size_t i) {
@@ -328,7 +408,6 @@ private:
       {
         sum += (t1 - t0) * s.Length;
         scratch.Pieces.push_back({ static_cast<std::uint32_t>(i), t0, t1 });
-        scratch.Cumulative.push_back(sum);
       }
     });
     return sum;

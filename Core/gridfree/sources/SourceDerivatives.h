@@ -139,11 +139,11 @@ public:
     if (this->Concentrated.Curves && !this->Concentrated.Curves->Empty())
     {
       Vec<DIM> point;
-      double length = 0.0;
+      double inverseDensity = 0.0;
       if (this->Concentrated.Curves->SampleInBall(
-            x, radius, rng, this->CurveScratch, point, this->Strength.data(), length))
+            x, radius, rng, this->CurveScratch, point, this->Strength.data(), inverseDensity))
       {
-        this->AddConcentrated(point - x, length, this->Strength.data(), green,
+        this->AddConcentrated(point - x, inverseDensity, this->Strength.data(), green,
           wantHessian ? kernels : nullptr, gradient, hessian);
       }
     }

@@ -9,8 +9,9 @@
 //   combined by the balance heuristic (multiple importance sampling);
 // - point sources s·δ_z, each adding s·G(x, z) when z lies in the ball
 //   (Sec. 4.2.2: the ball's share of a delta is sampled exactly);
-// - curve sources s·δ_γ, adding L·s(z)·G(x, z) for one point z drawn
-//   uniformly on the length-L part of γ inside the ball (Sec. 4.2.2).
+// - curve sources s·δ_γ, adding s(z)·G(x, z)/p(z) for one point z drawn on
+//   the part of γ inside the ball with density p ∝ 1/|z − x| (Sec. 4.2.2's
+//   importance sampling, with G's pole cancelled in 3D).
 #ifndef GRIDFREE_SOURCES_SOURCE_TERMS_H
 #define GRIDFREE_SOURCES_SOURCE_TERMS_H
 
@@ -242,11 +243,11 @@ public:
     if (this->Concentrated.Curves && !this->Concentrated.Curves->Empty())
     {
       Vec<DIM> z;
-      double length = 0.0;
+      double inverseDensity = 0.0;
       if (this->Concentrated.Curves->SampleInBall(
-            x, radius, rng, this->CurveScratch, z, this->Strength.data(), length))
+            x, radius, rng, this->CurveScratch, z, this->Strength.data(), inverseDensity))
       {
-        double g = length * green.Value((z - x).norm());
+        double g = inverseDensity * green.Value((z - x).norm());
         if (g > 0.0)
         {
           g *= keep(z);

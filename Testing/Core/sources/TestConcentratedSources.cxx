@@ -399,14 +399,14 @@ void CheckSpecialSegments()
   const V x = Planar<DIM>(0.0, 0.0, 0.0);
   RandomStream rng(11, 0);
   V z = V::Constant(-7.0);
-  double s = -7.0, length = -7.0;
+  double s = -7.0, inverseDensity = -7.0;
 
   // Tangent line: touches the sphere at one point, measure zero.
   CurveSources<DIM> tangent;
   tangent.Set({ Planar<DIM>(-5, 1, 0), Planar<DIM>(5, 1, 0) }, { Segment{ 0, 1 } }, 1, { 1, 1 });
   EXPECT_EQ(tangent.LengthInBall(x, 1.0, scratch), 0.0);
-  EXPECT_FALSE(tangent.SampleInBall(x, 1.0, rng, scratch, z, &s, length));
-  EXPECT_EQ(length, 0.0);
+  EXPECT_FALSE(tangent.SampleInBall(x, 1.0, rng, scratch, z, &s, inverseDensity));
+  EXPECT_EQ(inverseDensity, 0.0);
   EXPECT_EQ(z, V::Constant(-7.0)); // untouched
   EXPECT_EQ(s, -7.0);
   EXPECT_GT(tangent.LengthInBall(x, std::nextafter(1.0, 2.0), scratch), 0.0);
@@ -415,7 +415,7 @@ void CheckSpecialSegments()
   CurveSources<DIM> shortOne;
   shortOne.Set({ Planar<DIM>(-5, 0, 0), Planar<DIM>(-1.5, 0, 0) }, { Segment{ 0, 1 } }, 1, { 1, 1 });
   EXPECT_EQ(shortOne.LengthInBall(x, 1.0, scratch), 0.0);
-  EXPECT_FALSE(shortOne.SampleInBall(x, 1.0, rng, scratch, z, &s, length));
+  EXPECT_FALSE(shortOne.SampleInBall(x, 1.0, rng, scratch, z, &s, inverseDensity));
 
   // Segment ending inside: from the sphere to its end.
   CurveSources<DIM> ending;
@@ -576,15 +576,16 @@ void CheckSamplesInsideAndOnCurve(std::uint64_t seed)
     const Vec<DIM> x = RandomVec<DIM>(gen, -1.2, 1.2);
     const double r = 0.3 * unit(gen);
     Vec<DIM> z = Vec<DIM>::Zero();
-    double strength, length;
+    double strength, inverseDensity;
     const double expected = curve.LengthInBall(x, r, scratch);
-    const bool ok = curve.SampleInBall(x, r, rng, scratch, z, &strength, length);
+    const bool ok = curve.SampleInBall(x, r, rng, scratch, z, &strength, inverseDensity);
     ASSERT_EQ(ok, expected > 0.0);
-    ASSERT_EQ(length, expected);
     if (!ok)
     {
       continue;
     }
+    ASSERT_GT(inverseDensity, 0.0);
+    ASSERT_TRUE(std::isfinite(inverseDensity));
     ++sampled;
     ASSERT_LE((z - x).norm(), r * (1.0 + 1e-12));
     double d2 = kInf;
@@ -609,15 +610,19 @@ TEST(CurveSources, SamplesInsideBallAndOnCurve3D)
 }
 
 /// The line y = 0.6 crosses the unit ball around the origin on x in
-/// [-0.8, 0.8]; a vertex at x = 0.4 splits that chord into pieces of lengths
-/// 1.2 and 0.4, so sampling must weight the pieces by length.
+/// [-0.8, 0.8]; a vertex at x = 0.4 splits that chord into pieces. Points
+/// must have density ∝ 1/r = 1/√(x² + 0.36) along the whole chord, so the
+/// pieces are weighted by their ∫ dl/r, and 1/p(z) = r ∫ dl/r.
 template <int DIM>
-void CheckUniformAlongChord()
+void CheckInverseDistanceAlongChord()
 {
   CurveSources<DIM> line;
   line.Set({ Planar<DIM>(-3.0, 0.6), Planar<DIM>(0.4, 0.6), Planar<DIM>(3.0, 0.6) },
     { Segment{ 0, 1 }, Segment{ 1, 2 } }, 1, { 0, 0, 0 });
   const Vec<DIM> x = Planar<DIM>(0.0, 0.0);
+  const double total = 2.0 * std::asinh(0.8 / 0.6);
+  // The chord's CDF, to map samples to [0, 1].
+  auto cdf = [&](double l) { return (std::asinh(l / 0.6) + std::asinh(0.8 / 0.6)) / total; };
   typename CurveSources<DIM>::Scratch scratch;
   RandomStream rng(12, DIM);
   const std::size_t n = 20000;
@@ -625,24 +630,31 @@ void CheckUniformAlongChord()
   for (std::size_t i = 0; i < n; ++i)
   {
     Vec<DIM> z = Vec<DIM>::Zero();
-    double s, length;
-    ASSERT_TRUE(line.SampleInBall(x, 1.0, rng, scratch, z, &s, length));
-    ASSERT_NEAR(length, 1.6, 1e-14);
-    f[i] = (z[0] + 0.8) / 1.6; // fraction along the chord
+    double s, inverseDensity;
+    ASSERT_TRUE(line.SampleInBall(x, 1.0, rng, scratch, z, &s, inverseDensity));
+    ASSERT_NEAR(inverseDensity, total * (z - x).norm(), 1e-12);
+    f[i] = cdf(z[0]);
   }
   EXPECT_LT(KsStatistic(f), KsThreshold(n));
 
-  // The same check must reject plausible mistakes. (a) Picking a piece with
-  // equal odds instead of by length:
+  // The same check must reject plausible mistakes. (a) Points uniform along
+  // the chord (the density before it was ∝ 1/r):
   RandomStream bad(13, DIM);
   std::vector<double> g(n);
   for (std::size_t i = 0; i < n; ++i)
   {
-    const double u = bad.NextDouble();
-    g[i] = bad.NextDouble() < 0.5 ? 0.75 * u : 0.75 + 0.25 * u;
+    g[i] = cdf(-0.8 + 1.6 * bad.NextDouble());
   }
   EXPECT_GT(KsStatistic(g), KsThreshold(n));
-  // (b) A density off by only 10%: 1 + 0.1 cos(pi f), by inverting its CDF.
+  // (b) The right density within each piece, the pieces picked with equal odds:
+  const double split = cdf(0.4);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double u = bad.NextDouble();
+    g[i] = bad.NextDouble() < 0.5 ? split * u : split + (1.0 - split) * u;
+  }
+  EXPECT_GT(KsStatistic(g), KsThreshold(n));
+  // (c) A density off by only 10%: 1 + 0.1 cos(pi f), by inverting its CDF.
   for (std::size_t i = 0; i < n; ++i)
   {
     const double u = bad.NextDouble();
@@ -656,14 +668,41 @@ void CheckUniformAlongChord()
   EXPECT_GT(KsStatistic(g), KsThreshold(n));
 }
 
-TEST(CurveSources, UniformAlongClippedChord2D)
+TEST(CurveSources, InverseDistanceAlongClippedChord2D)
 {
-  CheckUniformAlongChord<2>();
+  CheckInverseDistanceAlongChord<2>();
 }
 
-TEST(CurveSources, UniformAlongClippedChord3D)
+TEST(CurveSources, InverseDistanceAlongClippedChord3D)
 {
-  CheckUniformAlongChord<3>();
+  CheckInverseDistanceAlongChord<3>();
+}
+
+/// In 3D a sample of the free-space ∫ dl/(4π r) is the same number whatever
+/// the point drawn, however close the walk passes: p ∝ 1/r cancels the pole.
+/// Drawn uniformly, a point 10⁻⁴ from a unit segment gives samples spread
+/// over four orders of magnitude.
+TEST(CurveSources, InverseDistanceCancelsThePoleIn3D)
+{
+  using V = Vec<3>;
+  CurveSources<3> seg;
+  seg.Set({ V(-0.5, 0.0, 0.0), V(0.3, 0.0, 0.0), V(0.5, 0.0, 0.0) },
+    { Segment{ 0, 1 }, Segment{ 1, 2 } }, 1, { 1.0, 1.0, 1.0 });
+  typename CurveSources<3>::Scratch scratch;
+  RandomStream rng(17, 0);
+  for (const double h : { 1e-4, 0.01, 0.3 })
+  {
+    const V x(0.1, h, 0.0);
+    // ∫ dl/r over x ∈ [−0.5, 0.5] seen from (0.1, h): asinh(0.4/h) + asinh(0.6/h).
+    const double exact = (std::asinh(0.4 / h) + std::asinh(0.6 / h)) / (4.0 * kPi);
+    for (int i = 0; i < 200; ++i)
+    {
+      V z = V::Zero();
+      double s, inverseDensity;
+      ASSERT_TRUE(seg.SampleInBall(x, 2.0, rng, scratch, z, &s, inverseDensity));
+      ASSERT_NEAR(inverseDensity / (4.0 * kPi * (z - x).norm()), exact, 1e-12 * exact) << h;
+    }
+  }
 }
 
 TEST(CurveSources, StrengthIsLinearAlongSegment)
@@ -679,8 +718,8 @@ TEST(CurveSources, StrengthIsLinearAlongSegment)
   for (int i = 0; i < 2000; ++i)
   {
     V z = V::Zero();
-    double s[2], length;
-    ASSERT_TRUE(seg.SampleInBall(x, 1.0, rng, scratch, z, s, length));
+    double s[2], inverseDensity;
+    ASSERT_TRUE(seg.SampleInBall(x, 1.0, rng, scratch, z, s, inverseDensity));
     const double fraction = (z - a).norm() / (b - a).norm();
     ASSERT_NEAR(s[0], fraction, 1e-12);
     ASSERT_NEAR(s[1], 5.0 - 8.0 * fraction, 1e-12);
@@ -693,7 +732,7 @@ TEST(CurveSources, StrengthIsLinearAlongSegment)
   EXPECT_GT(hi - lo, 0.3);
 }
 
-/// E[L s(z) k(z)] = integral over gamma inside B of s k, for a smooth k. The
+/// E[s(z) k(z)/p(z)] = integral over gamma inside B of s k, for a smooth k. The
 /// reference is a midpoint rule over every full segment with the indicator of
 /// the open ball, which does not share any code with the clipping.
 template <int DIM>
@@ -750,11 +789,11 @@ void CheckImportanceSamplingIdentity()
   for (int i = 0; i < n; ++i)
   {
     Vec<DIM> z = Vec<DIM>::Zero();
-    double s[2], length;
-    ASSERT_TRUE(curve.SampleInBall(x, r, rng, scratch, z, s, length));
+    double s[2], inverseDensity;
+    ASSERT_TRUE(curve.SampleInBall(x, r, rng, scratch, z, s, inverseDensity));
     for (int c = 0; c < 2; ++c)
     {
-      const double y = length * s[c] * kernel(z);
+      const double y = inverseDensity * s[c] * kernel(z);
       sum[c] += y;
       sum2[c] += y * y;
     }
@@ -791,15 +830,15 @@ TEST(CurveSources, ScratchStopsGrowing)
   typename CurveSources<2>::Scratch scratch;
   RandomStream rng(16, 0);
   Vec<2> z = Vec<2>::Zero();
-  double strength, length;
+  double strength, inverseDensity;
   // The largest ball first: later queries have fewer hits and must reuse it.
-  ASSERT_TRUE(curve.SampleInBall(Vec<2>::Zero(), 0.5, rng, scratch, z, &strength, length));
+  ASSERT_TRUE(curve.SampleInBall(Vec<2>::Zero(), 0.5, rng, scratch, z, &strength, inverseDensity));
   const auto* pieces = scratch.Pieces.data();
   const auto* cumulative = scratch.Cumulative.data();
   for (int q = 0; q < 200; ++q)
   {
     const Vec<2> x = RandomVec<2>(gen, -0.1, 0.1); // B(x, 0.25) inside B(0, 0.5)
-    curve.SampleInBall(x, 0.25, rng, scratch, z, &strength, length);
+    curve.SampleInBall(x, 0.25, rng, scratch, z, &strength, inverseDensity);
     ASSERT_EQ(scratch.Pieces.data(), pieces);
     ASSERT_EQ(scratch.Cumulative.data(), cumulative);
   }
