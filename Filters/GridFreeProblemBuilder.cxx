@@ -250,7 +250,8 @@ struct ProblemBuilder::Internals
     AppendDouble(walk.Epsilon, key);
     AppendDouble(walk.ScreeningCoefficient, key);
     for (int v : { walk.MaxSteps, static_cast<int>(walk.Problem), static_cast<int>(walk.Sampling),
-           static_cast<int>(s.SourceOperator), s.Seed, s.PolynomialControlVariate })
+           static_cast<int>(walk.Screening), static_cast<int>(s.SourceOperator), s.Seed,
+           s.PolynomialControlVariate })
     {
       key.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
     }
@@ -807,6 +808,7 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   settings.Problem = s.Equation;
   settings.ScreeningCoefficient = s.ScreeningCoefficient;
   settings.Sampling = s.SourceSampling;
+  settings.Screening = s.ScreenedSteps;
   settings.Biharmonic = s.BiharmonicStrategy;
   settings.NestedWalks = s.NestedWalks;
 

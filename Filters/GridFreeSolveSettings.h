@@ -55,6 +55,7 @@ struct SolveSettings
   double ScreeningCoefficient = 1.0;
   std::string SourceExpression;
   gridfree::SourceSampling SourceSampling = gridfree::SourceSampling::GreensFunction;
+  gridfree::ScreenedSteps ScreenedSteps = gridfree::ScreenedSteps::Automatic;
   gridfree::SourceOperator SourceOperator = gridfree::SourceOperator::Value;
   gridfree::BiharmonicStrategy BiharmonicStrategy = gridfree::BiharmonicStrategy::TreeWalking;
   int NestedWalks = 1;

@@ -205,6 +205,7 @@ GRIDFREE_CHOICE_SETTER(
 GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
 GRIDFREE_CHOICE_SETTER(
   SourceSampling, "uniform", "Green's function", "multiple importance", "source density")
+GRIDFREE_CHOICE_SETTER(ScreenedSteps, "automatic", "uniform", "guided")
 GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
 GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
 #undef GRIDFREE_CHOICE_SETTER
@@ -485,6 +486,11 @@ static_assert(vtkWalkOnSpheresSolver::SOURCE_VALUE == static_cast<int>(gridfree:
   vtkWalkOnSpheresSolver::SOURCE_DIVERGENCE ==
     static_cast<int>(gridfree::SourceOperator::Divergence) &&
   vtkWalkOnSpheresSolver::SOURCE_CURL == static_cast<int>(gridfree::SourceOperator::Curl));
+static_assert(vtkWalkOnSpheresSolver::SCREENED_STEPS_AUTOMATIC ==
+    static_cast<int>(gridfree::ScreenedSteps::Automatic) &&
+  vtkWalkOnSpheresSolver::SCREENED_STEPS_UNIFORM ==
+    static_cast<int>(gridfree::ScreenedSteps::Uniform) &&
+  vtkWalkOnSpheresSolver::SCREENED_STEPS_GUIDED == static_cast<int>(gridfree::ScreenedSteps::Guided));
 static_assert(vtkWalkOnSpheresSolver::TREE_WALKING ==
     static_cast<int>(gridfree::BiharmonicStrategy::TreeWalking) &&
   vtkWalkOnSpheresSolver::NESTED == static_cast<int>(gridfree::BiharmonicStrategy::Nested));

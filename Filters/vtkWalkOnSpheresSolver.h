@@ -455,6 +455,29 @@ public:
   int GetSourceSampling();
   ///@}
 
+  enum ScreenedStepsType
+  {
+    SCREENED_STEPS_AUTOMATIC = 0,
+    SCREENED_STEPS_UNIFORM = 1,
+    SCREENED_STEPS_GUIDED = 2
+  };
+
+  ///@{
+  /**
+   * Where a screened walk's step lands on its sphere: SCREENED_STEPS_UNIFORM
+   * (the paper's walk, the weight times the sphere's boundary weight C) or
+   * SCREENED_STEPS_GUIDED, mostly near the direction of the boundary point
+   * with the largest log|g| − √c·distance and reweighted (unbiased): where
+   * 1/√c is short beside the domain, uniform steps' error bars are wrong by
+   * orders of magnitude and guided ones stay right.
+   * SCREENED_STEPS_AUTOMATIC (the default) guides when √c times the
+   * boundary's diagonal is at least 10 and there is no source. Guided steps
+   * need a mesh boundary (gridfree/estimators/ScreenedGuide.h).
+   */
+  virtual void SetScreenedSteps(int value); // a value out of range is an error
+  int GetScreenedSteps();
+  ///@}
+
   enum BiharmonicStrategyType
   {
     TREE_WALKING = 0,

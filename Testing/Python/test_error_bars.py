@@ -60,9 +60,11 @@ def field(output, name):
 
 
 def test_strong_screening_is_flagged_and_announced():
-    # u = e^{10x} solves Δu − 100u = 0: the value rests on rare walks.
+    # u = e^{10x} solves Δu − 100u = 0: with uniform steps the value rests
+    # on rare walks.
     boundary = sphere_boundary(lambda x, y, z: math.exp(10.0 * x))
     solver = solver_for(boundary, LINE, 256, screening=100.0)
+    solver.SetScreenedSteps(gridfree.vtkWalkOnSpheresSolver.SCREENED_STEPS_UNIFORM)
     catcher = MessageCatcher(solver)
     solver.Update()
     output = solver.GetOutput()
@@ -79,6 +81,27 @@ def test_strong_screening_is_flagged_and_announced():
     assert "T_VarianceReliable = 0" in text and "screening weights are very uneven" in text
     relative = output.GetPointData().GetArray("T_VarianceRelativeError")
     assert all(0.0 <= relative.GetValue(i) <= 1.0 for i in range(100))
+
+
+def test_strong_screening_takes_guided_steps_with_right_error_bars():
+    # The same problem with the default steps: √c × the diagonal is about
+    # 35, so steps are guided; every error bar is right and none is flagged.
+    exact = lambda x, y, z: math.exp(10.0 * x)  # noqa: E731
+    boundary = sphere_boundary(exact)
+    solver = solver_for(boundary, LINE, 256, screening=100.0)
+    assert solver.GetScreenedSteps() == solver.SCREENED_STEPS_AUTOMATIC
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    output = solver.GetOutput()
+    assert flags(output).count(0) == 0
+    assert not catcher.warnings, catcher.warning_text()
+    scores = z_scores(output, exact)
+    assert max(abs(z) for z in scores) < 5.0
+    assert 0.6 < sum(z * z for z in scores) / len(scores) < 1.5
+    # The setting is checked like the others.
+    checker = MessageCatcher(solver)
+    solver.SetScreenedSteps(3)
+    assert checker.errors and solver.GetScreenedSteps() == solver.SCREENED_STEPS_AUTOMATIC
 
 
 def test_jumping_data_with_few_walks_is_flagged_where_the_walks_agree():
@@ -146,6 +169,7 @@ def test_points_closer_than_epsilon_are_not_flagged_with_derivatives():
 def test_target_mode_walks_on_at_unreliable_points():
     boundary = sphere_boundary(lambda x, y, z: math.exp(10.0 * x))
     solver = solver_for(boundary, LINE, 1024, screening=100.0, target=1e300)
+    solver.SetScreenedSteps(gridfree.vtkWalkOnSpheresSolver.SCREENED_STEPS_UNIFORM)
     solver.Update()
     output = solver.GetOutput()
     walks = output.GetPointData().GetArray("WalkCount")

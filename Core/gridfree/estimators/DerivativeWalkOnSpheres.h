@@ -160,6 +160,7 @@ public:
   }
 
   double EscapeRadius(const Vec<DIM>& x0) const { return this->Walker.EscapeRadius(x0); }
+  void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
   WalkEnd Walk(const Vec<DIM>& x, double escapeRadius, RandomStream& rng, double* sample,
     int& steps, std::uint64_t& returns)
   {
@@ -263,6 +264,8 @@ public:
   int SolutionComponents() const { return this->Nc; }
   // The walks that continue from the first ball (their own counters).
   const Continuation& Continuations() const { return this->Walker; }
+  // Guided screened steps for the walks after the first ball (ScreenedGuide.h).
+  void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
 
   // The control variates of a walk use the running means of the walks
   // before it in its block of kControlBlock walks (walks 0–255, 256–511, …),

@@ -32,6 +32,14 @@ enum class ExteriorStrategy
   RussianRoulette // survival probability ρ_far/r per step, survivors reweighted
 };
 
+// How a screened walk's steps land (ScreenedGuide.h).
+enum class ScreenedSteps
+{
+  Automatic, // guided where √c × the boundary's diagonal ≥ 10 and there is no source
+  Uniform,   // uniformly on each sphere, the weight times C (paper Sec. 2.4)
+  Guided     // always guided on a mesh, sources or not
+};
+
 } // namespace gridfree
 
 #endif

@@ -48,6 +48,7 @@
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/ExteriorReturn.h>
+#include <gridfree/estimators/ScreenedGuide.h>
 #include <gridfree/greens/GreensFunctions.h>
 #include <gridfree/sampling/Random.h>
 #include <gridfree/statistics/RunningStatistics.h>
@@ -84,6 +85,10 @@ struct WalkSettings
   // Far sphere for equations without an exterior strategy: radius
   // EscapeRadiusFactor × boundary diagonal (at least twice the start distance).
   double EscapeRadiusFactor = 8.0;
+  // Screened equation on a mesh: whether steps land by the guided mixture
+  // of ScreenedGuide.h instead of uniformly (Problem builds the guide;
+  // estimators made without one step uniformly).
+  ScreenedSteps Screening = ScreenedSteps::Automatic;
 };
 
 enum class WalkEnd
@@ -254,6 +259,10 @@ public:
     return this->Settings.Problem == Equation::ScreenedPoisson ? this->SolutionComponents : -1;
   }
 
+  // Guided steps for the screened equation (ScreenedGuide.h); null: every
+  // step lands uniformly. The guide must outlive the estimator.
+  void SetGuide(const ScreenedGuide<DIM>* guide) { this->Guide = guide; }
+
   // The weight the last walk ended with (1 for the unscreened equations).
   double LastWeight() const { return this->EndWeight; }
   // The weight after the last walk's first step (1 for the unscreened
@@ -385,6 +394,8 @@ private:
         break;
       }
 
+      Vec<DIM> direction;
+      bool guided = false;
       // Biharmonic walks keep the largest balls: tree walking's Σ R_k² is an
       // exit time with a long tail, and smaller balls (more, smaller terms)
       // made it heavier than a 512-walk sample variance can judge at 5σ.
@@ -447,6 +458,19 @@ private:
             ++returns;
           }
         }
+        else if (this->Guide && this->Guide->Guides(boundaryWeight))
+        {
+          // A guided step (ScreenedGuide.h): its factor varies with the
+          // landing point and stays below C/(1 − α).
+          double factor = boundaryWeight;
+          direction = this->Guide->Step(x, radius, green, rng, factor);
+          guided = true;
+          weight *= factor;
+          if (steps == 0)
+          {
+            this->FirstWeight = ScreenedGuide<DIM>::LargestFactor(boundaryWeight);
+          }
+        }
         else
         {
           weight *= boundaryWeight;
@@ -457,7 +481,7 @@ private:
         }
       }
 
-      x += radius * SampleUnitSphere<DIM>(rng);
+      x += radius * (guided ? direction : SampleUnitSphere<DIM>(rng));
     }
 
     const int nc = this->SolutionComponents;
@@ -570,6 +594,7 @@ private:
   bool BoundedSupport = true;
   double EndWeight = 1.0;
   double FirstWeight = 1.0;
+  const ScreenedGuide<DIM>* Guide = nullptr;
   // Scratch (one estimator per thread): boundary values at the walk's end,
   // inner-walk values and source integrals, the running source sum, a sample.
   std::vector<double> BoundaryValue;

@@ -228,6 +228,7 @@ private:
     {
       DerivativeWalkOnSpheres<DIM> estimator(*this->P.Shape, this->P.Walk,
         this->Request.Derivatives, volume.get(), this->P.Concentrated());
+      estimator.SetGuide(this->P.Guide.get());
       run(estimator);
       return estimator.SourceSupportIsBounded();
     }
@@ -241,6 +242,7 @@ private:
     }
     WalkOnSpheresEstimator<DIM> estimator(
       *this->P.Shape, this->P.Walk, volume.get(), this->P.Concentrated());
+    estimator.SetGuide(this->P.Guide.get());
     run(estimator);
     return estimator.SourceSupportIsBounded();
   }

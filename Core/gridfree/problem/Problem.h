@@ -148,7 +148,18 @@ private:
     // values W·g + (1 − W)·v with 0 ≤ W ≤ 1 and v from a volume source of
     // known range (SteadyRange): bounded, which lets uneven weights pass
     // where no unseen walk could move the mean far (ErrorBarReliability.h).
-    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients)
+    if (this->GuidesScreenedSteps())
+    {
+      auto guide =
+        std::make_shared<const ScreenedGuide<DIM>>(*this->Shape, this->Walk.ScreeningCoefficient);
+      if (!guide->Empty())
+      {
+        this->Guide = std::move(guide);
+      }
+    }
+    // (Guided weights can exceed 1: the bounds below do not hold for them.)
+    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients &&
+      !this->Guide)
     {
       const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
       std::vector<double> low(nc), high(nc), steadyLow(nc), steadyHigh(nc);
@@ -170,6 +181,29 @@ private:
       }
     }
     this->BuildSourceDensity();
+  }
+
+  // Guided steps for the screened equation (ScreenedGuide.h): they bring
+  // the walks to large data, where uniform steps rarely land once the
+  // screening length 1/√c is short beside the domain (Automatic: √c × the
+  // diagonal ≥ 10; below it, uniform steps' tails are light, and a guide
+  // pointing one way can make them heavier, as for the radial I0 data of
+  // ErrorBarReliability.BoundedDataWithUnevenWeightsIsNotFlagged at c = 9).
+  // Automatic leaves sources to uniform steps: their answer also comes from
+  // the volume, which the guide does not see.
+  bool GuidesScreenedSteps() const
+  {
+    if (this->Walk.Problem != Equation::ScreenedPoisson || this->Mixed || this->Coefficients ||
+      !this->Shape->IsMesh() || this->Walk.Screening == ScreenedSteps::Uniform)
+    {
+      return false;
+    }
+    if (this->Walk.Screening == ScreenedSteps::Guided)
+    {
+      return true;
+    }
+    return std::sqrt(this->Walk.ScreeningCoefficient) * this->Shape->Diagonal() >= 10.0 &&
+      (!this->Sources || this->Sources->Empty());
   }
 
   // The range [low, high] of v for component c, where one screened walk (or
@@ -222,6 +256,8 @@ private:
 public:
 
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
+  // Whether screened walks take guided steps (GuidesScreenedSteps).
+  bool StepsAreGuided() const { return this->Guide != nullptr; }
   const std::shared_ptr<const Boundary<DIM>>& SharedBoundary() const { return this->Shape; }
   const WalkSettings& Settings() const { return this->Walk; }
   const SourceSet<DIM>* GetSources() const { return this->Sources.get(); }
@@ -348,8 +384,12 @@ public:
   ErrorBarCheck ErrorBar(const RunningStatistics& stats, const WalkCounters& counters,
     const SampleLayout& layout, DerivativeStatus status = DerivativeStatus::Interior) const
   {
-    return CheckErrorBar(stats, layout.Value, this->SolutionComponents(), layout.Weight,
-      this->SpreadPossible(counters, status), this->ErrorRule(counters),
+    // Guided steps make weights uneven on purpose (they carry e^{−√c·path}
+    // for walks drawn toward large data), so their spread is no sign of an
+    // unseen walk: only the values' own spread is judged.
+    return CheckErrorBar(stats, layout.Value, this->SolutionComponents(),
+      this->Guide ? -1 : layout.Weight, this->SpreadPossible(counters, status),
+      this->ErrorRule(counters),
       counters.ValueControlReach, counters.WeightReachOrOne());
   }
 
@@ -543,6 +583,7 @@ private:
   std::shared_ptr<const PolynomialShift<DIM>> Shift;
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
+  std::shared_ptr<const ScreenedGuide<DIM>> Guide; // guided screened steps, or null
   bool ConstantData = false; // constant boundary values and no sources
   ErrorBarRule BoundedWalks;  // with the walk values' bounds, where known
 };

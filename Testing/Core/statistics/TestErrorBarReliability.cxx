@@ -105,11 +105,12 @@ std::shared_ptr<const Boundary<DIM>> SphereWith(const Field<DIM>& g)
   return std::make_shared<const Boundary<DIM>>(MakeBoundary<DIM>(UnitSphereMesh<DIM>(), { g }));
 }
 
-WalkSettings Screened(double c)
+WalkSettings Screened(double c, ScreenedSteps steps = ScreenedSteps::Automatic)
 {
   WalkSettings s;
   s.Problem = Equation::ScreenedPoisson;
   s.ScreeningCoefficient = c;
+  s.Screening = steps;
   return s;
 }
 
@@ -210,7 +211,7 @@ TEST(ErrorBarReliability, StronglyScreenedExponential)
   {
     const double k = std::sqrt(c);
     const Field<3> u = [k](const Vec3& x) { return std::exp(k * x[0]); };
-    const Problem<3> problem(SphereWith<3>(u), Screened(c));
+    const Problem<3> problem(SphereWith<3>(u), Screened(c, ScreenedSteps::Uniform));
     const Outcome o = Solve<3>(problem, RandomPointsInBall<3>(300, 0.9, 3), u, 256, 7);
     ExpectWrongOnesFlagged(o);
     // No large walk was seen at some of them: only the weights tell.
@@ -228,7 +229,7 @@ TEST(ErrorBarReliability, YukawaBoundaryData)
     const double r = (x - source).norm();
     return std::exp(-k * r) / r;
   };
-  const Problem<3> problem(SphereWith<3>(u), Screened(c));
+  const Problem<3> problem(SphereWith<3>(u), Screened(c, ScreenedSteps::Uniform));
   const Outcome o = Solve<3>(problem, RandomPointsInBall<3>(300, 0.9, 4), u, 256, 8);
   ExpectWrongOnesFlagged(o);
   EXPECT_GT(o.WrongUnflaggedWithoutWeightMeasure, 0);
@@ -524,4 +525,72 @@ TEST(ErrorBarReliability, SegmentAndRingSources)
     }
   }
   ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 512, 1));
+}
+
+// Strong screening with guided steps (ScreenedGuide.h), on an ellipsoid
+// with axes 1, 0.7, 0.5 (a shape the calibration tests do not use) and data
+// given exactly at the closest point, so that u is exact: the plane wave
+// e^{√c e·x − √c/2} at c = 400 and 10⁴, and the Yukawa potential of a pole
+// 0.05 outside the ellipsoid's tip at c = 2,500. Each case runs with
+// uniform steps first: their error bars are wrong by orders of magnitude
+// (every wrong point flagged); guided, the error bars are right and no
+// point is flagged. The printed lines are Documentation/ErrorBars.md's rows.
+TEST(ErrorBarReliability, GuidedStepsCalibratedUnderStrongScreening)
+{
+  const Vec3 axes(1.0, 0.7, 0.5);
+  SimplexMesh<3> mesh = MakeIcosphere(4);
+  for (auto& v : mesh.Vertices)
+  {
+    v = v.cwiseProduct(axes);
+  }
+  std::vector<Vec3> points = RandomPointsInBall<3>(150, 0.9, 3);
+  for (auto& p : points)
+  {
+    p = p.cwiseProduct(axes);
+  }
+  const Vec3 e = Vec3(1.0, 0.5, -0.3).normalized();
+  const Vec3 pole(1.05, 0.1, 0.0);
+  struct Case
+  {
+    double C;
+    bool Yukawa;
+  };
+  for (const Case& test : { Case{ 400.0, false }, Case{ 1e4, false }, Case{ 2500.0, true } })
+  {
+    const double k = std::sqrt(test.C);
+    const Field<3> u = test.Yukawa
+      ? Field<3>([k, pole](const Vec3& x) { return std::exp(-k * (x - pole).norm()) / (x - pole).norm(); })
+      : Field<3>([k, e](const Vec3& x) { return std::exp(k * e.dot(x) - 0.5 * k); });
+    auto values = std::make_shared<CallableBoundaryValues<3>>(
+      [u](const Vec3& p, std::int64_t, double* out) { out[0] = u(p); }, 1);
+    auto boundary = std::make_shared<Boundary<3>>();
+    boundary->SetMesh(mesh.Vertices, mesh.Simplices, values);
+    WalkSettings s = Screened(test.C, ScreenedSteps::Uniform);
+    s.Epsilon = 1e-6; // the ε-shell's bias, about √c·ε relative, stays far below the errors
+    std::printf(" c = %g, %s data, uniform steps, then guided:\n", test.C,
+      test.Yukawa ? "Yukawa" : "plane-wave");
+    ExpectWrongOnesFlagged(Solve<3>(Problem<3>(boundary, s), points, u, 256, 7));
+    s.Screening = ScreenedSteps::Automatic;
+    const Problem<3> problem(boundary, s);
+    ASSERT_TRUE(problem.StepsAreGuided());
+    ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 256, 7));
+  }
+  // 2D (von Mises landing points): the three lobes with a plane wave at
+  // c = 10⁴.
+  const double k = 100.0;
+  const Vec2 e2 = Vec2(1.0, 0.4).normalized();
+  const Field<2> u2 = [k, e2](const Vec2& x) { return std::exp(k * e2.dot(x) - 0.5 * k); };
+  auto values = std::make_shared<CallableBoundaryValues<2>>(
+    [u2](const Vec2& p, std::int64_t, double* out) { out[0] = u2(p); }, 1);
+  const SimplexMesh<2> lobes = ThreeLobes();
+  auto boundary = std::make_shared<Boundary<2>>();
+  boundary->SetMesh(lobes.Vertices, lobes.Simplices, values);
+  WalkSettings s = Screened(k * k, ScreenedSteps::Uniform);
+  s.Epsilon = 1e-6;
+  std::printf(" 2D, c = %g, plane-wave data, uniform steps, then guided:\n", k * k);
+  ExpectWrongOnesFlagged(Solve<2>(Problem<2>(boundary, s), PointsInThreeLobes(), u2, 256, 9));
+  s.Screening = ScreenedSteps::Automatic;
+  const Problem<2> problem(boundary, s);
+  ASSERT_TRUE(problem.StepsAreGuided());
+  ExpectCalibratedUnflagged(Solve<2>(problem, PointsInThreeLobes(), u2, 256, 9));
 }
