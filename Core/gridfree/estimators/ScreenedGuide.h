@@ -82,9 +82,13 @@ inline Vec<3> SampleVonMisesFisher<3>(const Vec<3>& n, double z, RandomStream& r
 template <>
 inline Vec<2> SampleVonMisesFisher<2>(const Vec<2>& n, double z, RandomStream& rng)
 {
-  // Best and Fisher's (1979) rejection sampler of the von Mises angle.
-  const double tau = 1.0 + std::sqrt(1.0 + 4.0 * z * z);
-  const double rho = (tau - std::sqrt(2.0 * tau)) / (2.0 * z);
+  // Best and Fisher's (1979) rejection sampler of the von Mises angle. Its
+  // ρ = (τ − √(2τ))/(2z) loses every digit for small z (τ → 2); the same
+  // number without the cancellation: τ − 2 = 4z²/(√(1 + 4z²) + 1) and
+  // τ − √(2τ) = τ(τ − 2)/(τ + √(2τ)).
+  const double root = std::sqrt(1.0 + 4.0 * z * z);
+  const double tau = 1.0 + root;
+  const double rho = 2.0 * z * tau / ((root + 1.0) * (tau + std::sqrt(2.0 * tau)));
   const double r = (1.0 + rho * rho) / (2.0 * rho);
   double f = 1.0;
   for (;;)
