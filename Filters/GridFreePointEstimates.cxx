@@ -118,14 +118,14 @@ std::string SolutionName(const std::string& wanted, vtkPointData* pd, const Warn
 
 // The points the walks start from, and those that get NaN results without
 // walking: points with NaN or infinite coordinates, and, with mixed
-// conditions (walk on stars, which solves inside the closed boundary only:
-// the reflecting part's normals say which side the domain is on), points
-// outside the boundary, rather than an exterior problem's answer with the
-// wrong orientation.
+// conditions where the exterior problem is not solved (Robin parts, the
+// Poisson or screened equation: Problem::AnswersOutside), points outside
+// the closed boundary, rather than an answer of the interior problem walked
+// from the wrong side.
 template <int DIM>
 struct StartPoints
 {
-  std::vector<std::array<double, 3>> Inside; // the probe's, outside points NaN (mixed only)
+  std::vector<std::array<double, 3>> Inside; // the probe's; outside ones NaN if not answered
   std::int64_t NonFinite = 0;
   std::int64_t Outside = 0;
 
@@ -161,6 +161,10 @@ struct StartPoints
       return;
     }
     this->Inside = probePoints;
+    if (problem.AnswersOutside())
+    {
+      return;
+    }
     std::atomic<std::int64_t> outside{ 0 };
     tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, 256),
       [&](const tbb::blocked_range<std::int64_t>& range) {
@@ -180,9 +184,9 @@ struct StartPoints
     {
       std::ostringstream text;
       text << this->Outside << " of " << n
-           << " probe points lie outside the closed boundary: mixed boundary conditions (walk "
-              "on stars) solve the interior problem only, so their results are NaN (field data "
-              "OutsidePoints).";
+           << " probe points lie outside the closed boundary: their results are NaN (field "
+              "data OutsidePoints). With mixed boundary conditions (walk on stars) the exterior "
+              "problem is solved for the Laplace equation without Robin parts only.";
       warn(text.str());
     }
   }

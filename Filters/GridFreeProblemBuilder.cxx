@@ -809,6 +809,10 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   settings.ScreeningCoefficient = s.ScreeningCoefficient;
   settings.Sampling = s.SourceSampling;
   settings.Screening = s.ScreenedSteps;
+  // Mixed conditions: points outside the closed boundary get the exterior
+  // problem's answer where it is solved (Laplace, no Robin parts), as walk
+  // on spheres answers points on both sides.
+  settings.MixedBothSides = true;
   settings.Biharmonic = s.BiharmonicStrategy;
   settings.NestedWalks = s.NestedWalks;
 

@@ -281,7 +281,11 @@ public:
    * are). Neumann and Robin cells must be oriented with outward normals
    * (counter-clockwise seen from outside; in 2D the domain on the left of
    * every line): the field data BackFaceHits counts walks that met them from
-   * the other side, the sign of a wrong orientation or a leak. Laplace,
+   * the other side, the sign of a wrong orientation or a leak. The boundary
+   * must be closed: probe points outside it solve the exterior problem with
+   * the same conditions (u → 0 at infinity in 3D, bounded in 2D) for the
+   * Laplace equation without Robin cells; otherwise they are NaN (field
+   * data OutsidePoints, with a warning). Laplace,
    * Poisson and screened Poisson equations, the solution and its
    * derivatives (a first ball clear of the whole boundary, then walk on
    * stars): not the biharmonic equation, implicit, CSG or two-sided

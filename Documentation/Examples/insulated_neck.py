@@ -15,7 +15,9 @@ Calculator marks the cap's points (bc = 1, Neumann) and the rest of the
 skin (bc = 0, Dirichlet), and the Walk On Spheres Solver's Mixed Boundary
 Conditions use that array. Both problems are solved on the same vertical
 slice through the head, with the gradient (a first ball clear of the whole
-boundary, then walk on stars); points outside the head are left out (NaN).
+boundary, then walk on stars), at the slice's points inside the head only
+(outside it, both problems would be answered too: by the exterior problem,
+which says nothing about the head).
 Writes into the output folder:
   neck_slice.vtp   the slice with T (insulated neck), T_Variance, T_Gradient
                    and T_Dirichlet (the whole skin at T, for comparison)
@@ -33,6 +35,8 @@ import sys
 
 import paraview.simple as pvs
 from paraview import servermanager
+from vtkmodules.vtkFiltersCore import vtkThreshold
+from vtkmodules.vtkFiltersModeling import vtkSelectEnclosedPoints
 from paraview.simple import (
     Calculator, ColorBy, Contour, CreateLayout, CreateView, GetColorTransferFunction,
     GetScalarBar, Plane, SaveData, SaveScreenshot, Show, Slice, XMLPolyDataReader)
@@ -60,6 +64,28 @@ def field_value(proxy, name):
     return proxy.FieldData[name].GetRange()[0]
 
 
+def cells_inside(plane, skin):
+    """The plane's cells whose points all lie inside the closed skin, as a
+    pipeline source: the probe. (Points outside would get the exterior
+    problem's answers, as walk on spheres gives them.) VTK's
+    vtkSelectEnclosedPoints in this process, so pvbatch runs it (a
+    Programmable Filter would import numpy's max, sum, ... into the script)."""
+    select = vtkSelectEnclosedPoints()
+    select.SetInputData(servermanager.Fetch(plane))
+    select.SetSurfaceData(servermanager.Fetch(skin))
+    inside = vtkThreshold()
+    inside.SetInputConnection(select.GetOutputPort())
+    inside.SetInputArrayToProcess(0, 0, 0, 0, "SelectedPoints")
+    inside.SetLowerThreshold(0.5)
+    inside.SetUpperThreshold(1.5)
+    inside.AllScalarsOn()
+    inside.Update()
+    probe = pvs.TrivialProducer(registrationName="SliceInsideHead")
+    probe.GetClientSideObject().SetOutput(inside.GetOutput())
+    probe.UpdatePipeline()
+    return probe
+
+
 def main():
     args = parse_arguments()
     os.makedirs(args.output, exist_ok=True)
@@ -82,15 +108,20 @@ def main():
     margin = 0.04 * (zmax - zmin)
     width, height = (ymax - ymin) + 2 * margin, (zmax - zmin) + 2 * margin
     steps = args.resolution - 1
-    probe = Plane(Origin=[xmid, ymin - margin, zmin - margin],
+    plane = Plane(Origin=[xmid, ymin - margin, zmin - margin],
                   Point1=[xmid, ymax + margin, zmin - margin],
                   Point2=[xmid, ymin - margin, zmax + margin],
                   XResolution=steps, YResolution=max(1, round(steps * height / width)))
+    probe = cells_inside(plane, skin)
 
     insulated = pvs.WalkOnSpheresSolver(Boundary=boundary, Probe=probe)
     insulated.BoundaryValues = ["POINTS", "T"]
     insulated.MixedBoundaryConditions = 1
     insulated.BoundaryConditionArray = ["POINTS", "bc"]
+    # No flux (insulated) and no Robin cells: said explicitly, for from a
+    # script the array properties default to the active source's scalars.
+    insulated.NeumannFluxArray = ["POINTS", "None"]
+    insulated.RobinCoefficientArray = ["POINTS", "None"]
     insulated.ComputeGradient = 1
     insulated.WalksPerPoint = args.walks
     insulated.Seed = args.seed
@@ -104,12 +135,10 @@ def main():
     dirichlet.UpdatePipeline()
 
     points = int(field_value(insulated, "ProbePoints"))
-    outside = int(field_value(insulated, "OutsidePoints"))
-    # Points left out still count their (NaN) walks in TotalWalks.
-    walks = (points - outside) * args.walks
+    walks = int(field_value(insulated, "TotalWalks"))
     seconds = field_value(insulated, "SolveSeconds")
-    print(f"points: {points} ({outside} outside the head, left out)")
-    print(f"walks inside the head: {walks}, {seconds:.2f} s, "
+    print(f"points inside the head: {points}")
+    print(f"walks: {walks}, {seconds:.2f} s, "
           f"{walks / max(seconds, 1e-9):.0f} walks per second")
     print(f"walks that met the neck from outside: {int(field_value(insulated, 'BackFaceHits'))}")
 
@@ -151,7 +180,8 @@ def main():
         Input=renamed, PointDataArrays=["T_Dirichlet"])])
     # Inline (base64) binary: Debian 12's patched expat makes ParaView 5.11
     # reject appended raw data on reading.
-    SaveData(os.path.join(args.output, "neck_slice.vtp"), proxy=output,
+    # (The probe's cells came through a threshold: back to polygons.)
+    SaveData(os.path.join(args.output, "neck_slice.vtp"), proxy=pvs.ExtractSurface(Input=output),
              DataMode="Binary", CompressorType="ZLib")
 
     # Both solutions side by side inside the head, with isotherms, the skin's

@@ -169,12 +169,85 @@ def test_dirichlet_neumann_and_robin_faces_of_a_box():
     n = out.GetNumberOfPoints()
     scores = z_scores(out, u3)[: n - len(outside)]
     assert_calibrated(scores)
-    # Points outside the closed boundary are left out, and said so.
+    # Points outside the closed boundary are left out where the exterior is
+    # not solved (here: Robin faces), and said so.
     values = out.GetPointData().GetArray("T")
     assert all(math.isnan(values.GetTuple1(i)) for i in range(n - len(outside), n))
     assert field(out, "OutsidePoints") == len(outside)
     assert "lie outside the closed boundary" in catcher.warning_text()
     assert field(out, "BackFaceHits") == 0
+
+
+CHARGE = (0.1, 0.05, -0.1)  # inside the box
+
+
+def potential(x, y, z):
+    return 1.0 / math.dist((x, y, z), CHARGE)
+
+
+def potential_gradient(x, y, z):
+    d = (x - CHARGE[0], y - CHARGE[1], z - CHARGE[2])
+    r3 = math.dist((x, y, z), CHARGE) ** 3
+    return tuple(-dk / r3 for dk in d)
+
+
+def potential_box():
+    """The box of box() with T = 1/|x - a| (a inside: harmonic outside,
+    0 at infinity), Dirichlet x faces and Neumann y and z faces with the
+    flux h = dT/dn at each face's points."""
+    mesh = box(level=10)
+    mesh.GetPointData().RemoveArray("T")
+    mesh.GetPointData().RemoveArray("h")
+    add_point_array(mesh, "T", potential)
+    bc = mesh.GetCellData().GetArray("bc")
+    point_normal = {}
+    for cell in range(mesh.GetNumberOfCells()):
+        axis, n = face_normal(cell_centre(mesh, cell))
+        bc.SetValue(cell, 0 if axis == 0 else 1)
+        ids = mesh.GetCell(cell).GetPointIds()
+        for k in range(ids.GetNumberOfIds()):
+            point_normal[ids.GetId(k)] = n
+    h = vtkDoubleArray()
+    h.SetName("h")
+    for i in range(mesh.GetNumberOfPoints()):
+        p = mesh.GetPoint(i)
+        h.InsertNextValue(sum(g * nk for g, nk in zip(potential_gradient(*p), point_normal[i])))
+    mesh.GetPointData().AddArray(h)
+    return mesh
+
+
+def shell_points(count):
+    """Points 0.1 to 0.7 outside the box [-0.5, 0.5]^3 (max-norm 0.6 to 1.2)."""
+    points = []
+    for i in range(count):
+        z = 1.0 - 2.0 * (i + 0.5) / count
+        phi = 2.399963 * i  # the golden angle
+        d = (math.sqrt(1 - z * z) * math.cos(phi), math.sqrt(1 - z * z) * math.sin(phi), z)
+        r = 0.6 + 0.6 * ((i * 0.618034) % 1.0)
+        scale = r / max(abs(c) for c in d)
+        points.append(tuple(scale * c for c in d))
+    return points
+
+
+def test_points_outside_get_the_exterior_problems_answer():
+    # Laplace without Robin parts: as walk on spheres answers both sides of
+    # a Dirichlet boundary, points outside the closed boundary walk on stars
+    # in its exterior (u -> 0 at infinity), with the same condition arrays.
+    outside = shell_points(150)
+    inside = 30
+    solver = mixed_solver(potential_box(), cloud(inside, half=0.35, outside=outside), walks=256)
+    solver.SetComputeGradient(True)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    assert "lie outside the closed boundary" not in catcher.warning_text()
+    assert field(out, "OutsidePoints") == 0
+    assert field(out, "BackFaceHits") == 0
+    assert_calibrated(z_scores(out, potential)[inside:])
+    assert_calibrated(component_z_scores(out, "T_Gradient", potential_gradient, range(3))[3 * inside:])
+    values = out.GetPointData().GetArray("T")
+    assert all(math.isfinite(values.GetTuple1(i)) for i in range(inside))
 
 
 def hessian3(x, y, z):

@@ -160,6 +160,9 @@ public:
   }
 
   double EscapeRadius(const Vec<DIM>& x0) const { return this->Walker.EscapeRadius(x0); }
+  // A point's walks start about `centre` (walk on spheres answers either
+  // side of the boundary alike).
+  void StartFrom(const Vec<DIM>&) {}
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
   WalkEnd Walk(const Vec<DIM>& x, double escapeRadius, RandomStream& rng, double* sample,
     int& steps, std::uint64_t& returns)
@@ -314,6 +317,7 @@ public:
     {
       status = this->FindOneSidedCentre(x0, centre, radius);
     }
+    this->Walker.StartFrom(centre);
     // The first ball's Green's function and Hessian kernels are the
     // equation's (EquationPolicies.h).
     const double r = status == DerivativeStatus::Unavailable ? 1.0 : radius;

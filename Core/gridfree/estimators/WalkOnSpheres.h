@@ -89,6 +89,12 @@ struct WalkSettings
   // of ScreenedGuide.h instead of uniformly (Problem builds the guide;
   // estimators made without one step uniformly).
   ScreenedSteps Screening = ScreenedSteps::Automatic;
+  // Walk on stars: a start point outside the closed mixed boundary walks in
+  // the domain on its other side (the exterior problem: Laplace equation,
+  // no Robin parts; WalkOnStars.h), as walk on spheres answers points on
+  // either side of a Dirichlet boundary. Off: every start point is taken to
+  // lie in the given domain.
+  bool MixedBothSides = false;
 };
 
 enum class WalkEnd

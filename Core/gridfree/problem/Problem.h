@@ -117,6 +117,15 @@ public:
   // The mixed boundary of a walk-on-stars problem, or null.
   const MixedBoundary<DIM>* GetMixedBoundary() const { return this->Mixed.get(); }
 
+  // Whether a mixed problem's points outside its closed boundary get the
+  // exterior problem's answers (WalkSettings::MixedBothSides, where the
+  // exterior is solved: AnswersBothSides). When not, walks from such points
+  // would take them for inside: callers leave them out (MixedBoundary::Inside).
+  bool AnswersOutside() const
+  {
+    return this->Mixed && AnswersBothSides(*this->Mixed, this->Walk);
+  }
+
 private:
   void Initialize()
   {

@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -183,6 +184,8 @@ public:
         "mixed boundary: Robin conditions are not available in exterior problems yet");
     }
     this->ExteriorDomain = exterior;
+    this->WithSilhouettes = silhouettes;
+    this->Other = std::make_shared<OtherSideSlot>();
     this->TwoSided = std::move(twoSided);
     this->AnyTwoSided =
       std::any_of(this->TwoSided.begin(), this->TwoSided.end(), [](std::uint8_t t) { return t != 0; });
@@ -291,6 +294,33 @@ public:
   // into ∂u/∂n along the domain's outward normal.
   double FluxSign() const { return this->ExteriorDomain ? -1.0 : 1.0; }
 
+  // Whether the domain on the boundary's other side can be solved in
+  // (OtherSide): not with Robin parts, which exterior domains do not take yet.
+  bool CanTurnInsideOut() const { return !this->AnyRobin; }
+
+  // The same boundary with the domain on its other side (the exterior of an
+  // interior domain, and back): what walks from points outside the closed
+  // boundary walk in (WalkOnStars.h, WalkSettings::MixedBothSides). Built
+  // on first use, once, and shared by every copy of this boundary, so that
+  // a problem whose points all lie inside never pays for it. Throws when
+  // !CanTurnInsideOut().
+  const MixedBoundary& OtherSide() const
+  {
+    if (!this->CanTurnInsideOut())
+    {
+      throw std::invalid_argument(
+        "mixed boundary: Robin conditions are not available in exterior problems yet");
+    }
+    OtherSideSlot& slot = *this->Other;
+    std::call_once(slot.Once, [&] {
+      auto other = std::make_shared<MixedBoundary<DIM>>();
+      other->Set(this->DirichletPart, this->ReflectingPart, this->Robin, this->WithSilhouettes,
+        this->TwoSided, !this->ExteriorDomain);
+      slot.Side = std::move(other);
+    });
+    return *slot.Side;
+  }
+
   // Whether a primitive of the reflecting part is an insulating sheet.
   bool HasTwoSided() const { return this->AnyTwoSided; }
   bool IsTwoSided(std::int64_t primitive) const
@@ -325,6 +355,12 @@ public:
   double Diagonal() const { return this->Box.Diagonal(); }
 
 private:
+  struct OtherSideSlot
+  {
+    std::once_flag Once;
+    std::shared_ptr<const MixedBoundary<DIM>> Side;
+  };
+
   std::shared_ptr<const Boundary<DIM>> DirichletPart;
   std::shared_ptr<const Boundary<DIM>> ReflectingPart;
   SilhouetteTree<DIM> Silhouette;
@@ -334,6 +370,8 @@ private:
   std::vector<double> Robin; // μ per reflecting primitive (empty: none)
   std::vector<std::uint8_t> TwoSided; // insulating sheets (empty: none)
   bool ExteriorDomain = false;
+  bool WithSilhouettes = true;
+  std::shared_ptr<OtherSideSlot> Other = std::make_shared<OtherSideSlot>();
   bool AnyTwoSided = false;
   double ParityGap = 0.0;
   std::array<Vec<DIM>, kParityRays> ParityDirections{};

@@ -103,8 +103,13 @@ public:
     }
   }
 
-  // Walk on stars has its own escape sphere and no exterior returns.
+  // Walk on stars has its own escape sphere and exterior returns.
   double EscapeRadius(const Vec<DIM>&) const { return 0.0; }
+  // The walks of a point continue on the side of the boundary its first
+  // ball's centre lies on (WalkOnStarsEstimator::ChooseSide: the exterior
+  // for a point outside, when the problem answers both sides). x1 on the
+  // first ball is on that side too: the ball holds no boundary.
+  void StartFrom(const Vec<DIM>& centre) { this->Walker.ChooseSide(centre); }
   WalkEnd Walk(const Vec<DIM>& x, double, RandomStream& rng, double* sample, int& steps,
     std::uint64_t&)
   {

@@ -70,6 +70,16 @@
 
 namespace gridfree
 {
+// Whether walks on `boundary` answer start points on both of its sides
+// (WalkSettings::MixedBothSides): the exterior takes the Laplace equation
+// without Robin parts (sources are not read by the Laplace equation).
+template <int DIM>
+bool AnswersBothSides(const MixedBoundary<DIM>& boundary, const WalkSettings& settings)
+{
+  return settings.MixedBothSides && settings.Problem == Equation::Laplace &&
+    !boundary.IsExterior() && boundary.CanTurnInsideOut();
+}
+
 template <int DIM>
 class WalkOnStarsEstimator
 {
@@ -82,7 +92,9 @@ public:
   WalkOnStarsEstimator(const MixedBoundary<DIM>& boundary, const WalkSettings& settings,
     VolumeSource<DIM>* volume = nullptr,
     const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>())
-    : Geometry(boundary)
+    : Given(boundary)
+    , Geometry(&boundary)
+    , BothSides(AnswersBothSides(boundary, settings))
     , Settings(settings)
     , NumberOfComponents(boundary.Components())
     , Sources(boundary.Components(), settings.Sampling,
@@ -134,19 +146,36 @@ public:
   // nonzero means the Neumann part is inconsistently oriented or leaks.
   std::uint64_t BackFaceHits() const { return this->BackHits; }
 
+  // The domain the next walks run in: the given one, or, when this
+  // estimator answers both sides (AnswersBothSides), the one on the other
+  // side of the boundary if x is not inside the given one (ray parity,
+  // MixedBoundary::Inside). A point's walks all start on its side, so this
+  // is asked once per point, not per walk.
+  void ChooseSide(const Vec<DIM>& x)
+  {
+    this->Geometry = this->BothSides && !this->Given.Inside(x) ? &this->Given.OtherSide()
+                                                                : &this->Given;
+  }
+
   // As WalkOnSpheresEstimator::EstimatePoint: walks firstWalk ..
   // firstWalk + walks − 1 from the probe point, into stats and counters.
   template <class Statistics>
   void EstimatePoint(const double probeXYZ[3], std::uint64_t seed, std::uint64_t firstWalk,
     int walks, Statistics& stats, WalkCounters& counters)
   {
+    Vec<DIM> x0;
+    if (this->BothSides && ProbeStartPoint<DIM>(probeXYZ, x0))
+    {
+      this->ChooseSide(x0);
+    }
     RunPointWalks<DIM>(probeXYZ, seed, firstWalk, walks, this->Sample, stats, counters,
       [this](const Vec<DIM>& x0, int, RandomStream& rng, int& steps) {
         return this->Walk(x0, rng, this->Sample.data(), steps);
       });
   }
 
-  // One walk from x0 (inside the domain); writes OutputComponents() numbers.
+  // One walk from x0 (in the domain ChooseSide chose: the given one unless
+  // it was asked); writes OutputComponents() numbers.
   WalkEnd Walk(const Vec<DIM>& x0, RandomStream& rng, double* sample, int& steps)
   {
     if (this->Settings.Problem == Equation::ScreenedPoisson)
@@ -167,7 +196,7 @@ private:
     {
       return false;
     }
-    return !this->Geometry.Reflecting().Hierarchy().Occluded(origin, y - origin, 1.0, 0.0);
+    return !this->Geometry->Reflecting().Hierarchy().Occluded(origin, y - origin, 1.0, 0.0);
   }
 
   template <class Policy>
@@ -175,7 +204,7 @@ private:
   {
     constexpr bool screened = Policy::WeightsSteps;
     const WalkSettings& s = this->Settings;
-    const MixedBoundary<DIM>& b = this->Geometry;
+    const MixedBoundary<DIM>& b = *this->Geometry;
     const bool hasD = b.HasDirichlet();
     const bool hasN = b.HasReflecting();
     const bool robin = b.HasRobin();
@@ -366,7 +395,7 @@ private:
   void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
     std::int64_t onPrimitive, double radius, const Green& green, double factor, RandomStream& rng)
   {
-    const MixedBoundary<DIM>& b = this->Geometry;
+    const MixedBoundary<DIM>& b = *this->Geometry;
     const ReflectingBoundarySampler<DIM>& sampler = b.FluxSampler();
     const bool mixture = DIM == 3 && onNeumann && onPrimitive >= 0;
     BoundarySample<DIM> z;
@@ -430,7 +459,7 @@ private:
     BoundarySample<DIM>& z) const
   {
     Vec<DIM> y;
-    const MixedBoundary<DIM>& b = this->Geometry;
+    const MixedBoundary<DIM>& b = *this->Geometry;
     if (!b.FluxSampler().SampleInPlane(x, own, radius, rng, y))
     {
       return false;
@@ -450,13 +479,15 @@ private:
   // (within Offset): where SampleInPlane's points may land.
   bool Coplanar(std::int64_t p, std::int64_t own, const Vec<DIM>& x) const
   {
-    const MixedBoundary<DIM>& b = this->Geometry;
+    const MixedBoundary<DIM>& b = *this->Geometry;
     const Vec<DIM>& n = b.OutwardNormal(own);
     return (p == own || b.OutwardNormal(p).dot(n) >= 1.0 - 1e-12) &&
       std::abs((b.FluxSampler().FirstVertex(p) - x).dot(n)) <= this->Offset;
   }
 
-  const MixedBoundary<DIM>& Geometry;
+  const MixedBoundary<DIM>& Given;
+  const MixedBoundary<DIM>* Geometry; // the domain walks run in (ChooseSide)
+  bool BothSides = false;
   WalkSettings Settings;
   int NumberOfComponents;
   SourceIntegrator<DIM> Sources;

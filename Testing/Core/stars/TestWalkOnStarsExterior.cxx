@@ -4,14 +4,21 @@
 // infinity), the flux given along the mesh's outward normals as for an
 // interior problem. Every point |z| < 5, mean z² in [0.7, 1.4], no back-face
 // hits; the same data solved as if the domain were inside (reflection off
-// the wrong side, the flux's sign) fails the check.
+// the wrong side, the flux's sign) fails the check. Through a Problem that
+// answers both sides (WalkSettings::MixedBothSides), the points outside get
+// the exterior's value and gradient and those inside the same bits as
+// without it.
+#include <gridfree/problem/Problem.h>
+
 #include "MixedShapes.h"
 #include "StarChecks.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -73,6 +80,97 @@ TEST(WalkOnStarsExterior, LPrismWithANeumannPart)
     wrong.MeanZ2, wrong.MaxAbsZ, static_cast<unsigned long long>(backHits));
   EXPECT_TRUE(wrong.MeanZ2 > 2.0 || wrong.MaxAbsZ > 5.0);
   EXPECT_GT(backHits, 0u);
+}
+
+// Points inside the prism at least 0.06 from its boundary.
+std::vector<Vec3> PointsInside(const MixedBoundary<3>& inside, int count, std::uint32_t seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> points;
+  while (static_cast<int>(points.size()) < count)
+  {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const double d = std::min(inside.Dirichlet().Distance(p), inside.Reflecting().Distance(p));
+    if (d > 0.06 && inside.Inside(p))
+    {
+      points.push_back(p);
+    }
+  }
+  return points;
+}
+
+TEST(WalkOnStarsExterior, ProblemAnswersBothSides)
+{
+  const Shape<3> prism = LPrism();
+  const auto boundary = std::make_shared<const MixedBoundary<3>>(
+    MakeMixed<3>(prism.Mesh, LPrismDirichlet, Potential, PotentialGradient));
+  const std::vector<Vec3> outside = PointsOutside(*boundary, 100, 5);
+  const std::vector<Vec3> inside = PointsInside(*boundary, 30, 6);
+  std::vector<std::array<double, 3>> probe;
+  for (const auto* list : { &outside, &inside })
+  {
+    for (const Vec3& p : *list)
+    {
+      probe.push_back({ p[0], p[1], p[2] });
+    }
+  }
+  WalkSettings settings;
+  settings.Epsilon = 1e-4;
+  settings.MixedBothSides = true;
+  const Problem<3> both(boundary, settings);
+  ASSERT_TRUE(both.AnswersOutside());
+  BatchRequest request;
+  request.WalksPerPoint = 256;
+  request.Seed = 2029;
+  request.Derivatives.Gradient = true;
+  request.Derivatives.ControlVariates = true;
+  const BatchEstimates e = both.EstimateAll(probe, request);
+  const SampleLayout& layout = e.Summary.Layout;
+  ASSERT_GE(layout.Gradient, 0);
+  EXPECT_EQ(e.Summary.BackFaceHits, 0u);
+
+  // Outside: the exterior problem's value and gradient.
+  Calibration value, gradient;
+  for (std::size_t i = 0; i < outside.size(); ++i)
+  {
+    const double z = (e.Value(i) - Potential(outside[i])) / std::sqrt(e.ValueVariance(i));
+    value.MeanZ2 += z * z / static_cast<double>(outside.size());
+    value.MaxAbsZ = std::max(value.MaxAbsZ, std::isfinite(z) ? std::abs(z) : 1e300);
+    const Vec3 exact = PotentialGradient(outside[i]);
+    for (int a = 0; a < 3; ++a)
+    {
+      const double za = (e.Mean(i, layout.Gradient + a) - exact[a]) /
+        std::sqrt(e.Variance(i, layout.Gradient + a));
+      gradient.MeanZ2 += za * za / (3.0 * static_cast<double>(outside.size()));
+      gradient.MaxAbsZ = std::max(gradient.MaxAbsZ, std::isfinite(za) ? std::abs(za) : 1e300);
+    }
+  }
+  value.Points = static_cast<int>(outside.size());
+  gradient.Points = static_cast<int>(3 * outside.size());
+  std::printf("both sides, outside: value mean z² %.3f (max |z| %.2f), gradient %.3f (%.2f)\n",
+    value.MeanZ2, value.MaxAbsZ, gradient.MeanZ2, gradient.MaxAbsZ);
+  ExpectCalibrated(value, value.Points);
+  ExpectCalibrated(gradient, gradient.Points);
+
+  // Inside: the interior problem's walks, bit for bit.
+  settings.MixedBothSides = false;
+  const Problem<3> interior(boundary, settings);
+  EXPECT_FALSE(interior.AnswersOutside());
+  const std::vector<std::array<double, 3>> insideProbe(probe.begin() + outside.size(), probe.end());
+  const BatchEstimates alone = interior.EstimateAll(insideProbe, request);
+  for (std::size_t k = 0; k < inside.size(); ++k)
+  {
+    const std::size_t i = outside.size() + k;
+    EXPECT_EQ(e.Value(i), alone.Value(k));
+    EXPECT_EQ(e.Mean(i, layout.Gradient), alone.Mean(k, layout.Gradient));
+  }
+
+  // A Robin part: the exterior is not solved, so outside points are not answered.
+  settings.MixedBothSides = true;
+  const auto robin = std::make_shared<const MixedBoundary<3>>(MakeMixed<3>(prism.Mesh,
+    LPrismDirichlet, Potential, PotentialGradient, true, 1.0, [](const Vec3&) { return 1.0; }));
+  EXPECT_FALSE(Problem<3>(robin, settings).AnswersOutside());
 }
 
 TEST(WalkOnStarsExterior, RefusesWhatItCannotSolve)
