@@ -737,7 +737,7 @@ def test_all_neumann_is_fine_when_screened():
     c = 4.0
     mesh = box(level=4)
     mesh.GetCellData().GetArray("bc").Fill(1)
-    solver = mixed_solver(mesh, cloud(100), walks=256)
+    solver = mixed_solver(mesh, cloud(200), walks=256)
     solver.SetEquation(SOLVER.SCREENED_POISSON)
     solver.SetScreeningCoefficient(c)
     pi = repr(math.pi)

@@ -193,6 +193,13 @@ public:
     this->AnyRobin = std::any_of(this->Robin.begin(), this->Robin.end(), [](double mu) { return mu > 0.0; });
     this->DirichletPart = hasD ? std::move(dirichlet) : nullptr;
     this->ReflectingPart = hasR ? std::move(reflecting) : nullptr;
+    this->AnyFlux = false;
+    for (int c = 0; hasR && c < this->ReflectingPart->Components(); ++c)
+    {
+      double lowest = 0.0, highest = 0.0;
+      this->AnyFlux = this->AnyFlux || !this->ReflectingPart->ValueBounds(c, lowest, highest) ||
+        lowest != 0.0 || highest != 0.0;
+    }
     this->Normals.clear();
     this->Silhouette = SilhouetteTree<DIM>();
     this->Sampler = ReflectingBoundarySampler<DIM>();
@@ -328,6 +335,11 @@ public:
     return this->AnyTwoSided && this->TwoSided[static_cast<std::size_t>(primitive)] != 0;
   }
 
+  // Whether the reflecting part has a flux h that is not 0 everywhere (or
+  // one given by a function): with none, as on insulated walls, the flux
+  // term (WoSt-3) is 0 and walks do not sample it.
+  bool HasFlux() const { return this->AnyFlux; }
+
   // Whether some primitive has a Robin coefficient μ > 0.
   bool HasRobin() const { return this->AnyRobin; }
   double RobinCoefficient(std::int64_t primitive) const
@@ -376,6 +388,7 @@ private:
   double ParityGap = 0.0;
   std::array<Vec<DIM>, kParityRays> ParityDirections{};
   bool AnyRobin = false;
+  bool AnyFlux = false;
   BoundingBox<DIM> Box;
 };
 } // namespace gridfree

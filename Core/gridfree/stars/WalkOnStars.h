@@ -208,6 +208,7 @@ private:
     const bool hasD = b.HasDirichlet();
     const bool hasN = b.HasReflecting();
     const bool robin = b.HasRobin();
+    const bool flux = hasN && b.HasFlux(); // else the flux term is 0: not sampled
     const int nc = this->NumberOfComponents;
     const double sqrtC = std::sqrt(equation.ScreeningCoefficient());
     const double escape2 = this->EscapeRadius * this->EscapeRadius;
@@ -295,8 +296,11 @@ private:
 
       if (hasN)
       {
-        this->AddFluxTerm(
-          x, origin, onNeumann, n, onPrimitive, radius, green, alphaInverse * weight, rng);
+        if (flux)
+        {
+          this->AddFluxTerm(
+            x, origin, onNeumann, n, onPrimitive, radius, green, alphaInverse * weight, rng);
+        }
         const RayHit<DIM> hit = b.Reflecting().Hierarchy().Intersect(origin, v, radius);
         if (hit.Hit() && hit.t < radius)
         {

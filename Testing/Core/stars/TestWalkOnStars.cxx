@@ -114,6 +114,32 @@ void LaplaceMixed(const Shape<DIM>& shape, const std::function<bool(const Vec<DI
   ExpectCalibrated(c, points);
 }
 
+// Insulated walls: u = cos(kx) cosh(kz), k = π/0.6 (the cell size), is
+// harmonic with ∂u/∂n = 0 on every wall of the L prism (x and y in {0, 0.6,
+// 1.2}, the reflex ones included). With its top and bottom Dirichlet and
+// the walls' flux a table of zeros, the walks leave the flux term out
+// (MixedBoundary::HasFlux).
+TEST(WalkOnStars, InsulatedWallsWithoutAFluxTerm)
+{
+  constexpr double k = M_PI / 0.6;
+  const Field<3> u = [](const Vec3& x) { return std::cos(k * x[0]) * std::cosh(k * x[2]); };
+  const Shape<3> prism = LPrism();
+  const MixedBoundary<3> withFunction = MakeMixed<3>(prism.Mesh,
+    [](const Vec3& c) { return c[2] < 1e-9 || c[2] > 0.59; }, u,
+    [](const Vec3&) { return Vec3(Vec3::Zero()); });
+  EXPECT_TRUE(withFunction.HasFlux()); // a flux function may be anything
+  const Boundary<3>& walls = withFunction.Reflecting();
+  auto zeroFlux = std::make_shared<Boundary<3>>();
+  zeroFlux->Set(walls.MeshVertices(), walls.MeshPrimitives(), ValueAssociation::Cells, 1,
+    std::vector<double>(walls.NumberOfPrimitives(), 0.0));
+  MixedBoundary<3> b;
+  b.Set(withFunction.SharedDirichlet(), zeroFlux);
+  EXPECT_FALSE(b.HasFlux());
+  const Calibration c = RunStars<3>(b, Laplace(), PointsInside(prism, 150, 5), u, 128);
+  Report("insulated walls 3D", c);
+  ExpectCalibrated(c, 150);
+}
+
 TEST(WalkOnStars, LaplaceMixed2D) { LaplaceMixed<2>(UShape(), BottomSide2, kU2, kGrad2, 300, 1024); }
 TEST(WalkOnStars, LaplaceMixed3D) { LaplaceMixed<3>(LPrism(), BottomOrBack3, kU3, kGrad3, 200, 128); }
 
