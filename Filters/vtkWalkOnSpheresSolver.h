@@ -284,7 +284,8 @@ public:
    * the other side, the sign of a wrong orientation or a leak. The boundary
    * must be closed: probe points outside it solve the exterior problem with
    * the same conditions (u → 0 at infinity in 3D, bounded in 2D) for the
-   * Laplace equation without Robin cells; otherwise they are NaN (field
+   * Laplace equation, or the screened Poisson equation without a source,
+   * and without Robin cells; otherwise they are NaN (field
    * data OutsidePoints, with a warning). Laplace,
    * Poisson and screened Poisson equations, the solution and its
    * derivatives (a first ball clear of the whole boundary, then walk on

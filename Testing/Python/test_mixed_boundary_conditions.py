@@ -191,14 +191,28 @@ def potential_gradient(x, y, z):
     return tuple(-dk / r3 for dk in d)
 
 
-def potential_box():
-    """The box of box() with T = 1/|x - a| (a inside: harmonic outside,
-    0 at infinity), Dirichlet x faces and Neumann y and z faces with the
-    flux h = dT/dn at each face's points."""
+SQRT_C = 2.0  # of the screened exterior test
+
+
+def yukawa(x, y, z):
+    r = math.dist((x, y, z), CHARGE)
+    return math.exp(-SQRT_C * r) / r
+
+
+def yukawa_gradient(x, y, z):
+    r = math.dist((x, y, z), CHARGE)
+    scale = -(1.0 / r + SQRT_C) * math.exp(-SQRT_C * r) / (r * r)
+    return tuple(scale * (p - a) for p, a in zip((x, y, z), CHARGE))
+
+
+def potential_box(u=potential, gradient=potential_gradient):
+    """The box of box() with T = u, by default 1/|x - a| (a inside:
+    harmonic outside, 0 at infinity), Dirichlet x faces and Neumann y and z
+    faces with the flux h = dT/dn at each face's points."""
     mesh = box(level=10)
     mesh.GetPointData().RemoveArray("T")
     mesh.GetPointData().RemoveArray("h")
-    add_point_array(mesh, "T", potential)
+    add_point_array(mesh, "T", u)
     bc = mesh.GetCellData().GetArray("bc")
     point_normal = {}
     for cell in range(mesh.GetNumberOfCells()):
@@ -211,7 +225,7 @@ def potential_box():
     h.SetName("h")
     for i in range(mesh.GetNumberOfPoints()):
         p = mesh.GetPoint(i)
-        h.InsertNextValue(sum(g * nk for g, nk in zip(potential_gradient(*p), point_normal[i])))
+        h.InsertNextValue(sum(g * nk for g, nk in zip(gradient(*p), point_normal[i])))
     mesh.GetPointData().AddArray(h)
     return mesh
 
@@ -248,6 +262,26 @@ def test_points_outside_get_the_exterior_problems_answer():
     assert_calibrated(component_z_scores(out, "T_Gradient", potential_gradient, range(3))[3 * inside:])
     values = out.GetPointData().GetArray("T")
     assert all(math.isfinite(values.GetTuple1(i)) for i in range(inside))
+
+
+def test_points_outside_get_the_screened_exterior_problems_answer():
+    # The screened equation without a source too: e^{-sqrt(c) r}/r outside.
+    outside = shell_points(150)
+    solver = mixed_solver(potential_box(yukawa, yukawa_gradient), cloud(0, outside=outside),
+                          walks=256)
+    solver.SetEquation(SOLVER.SCREENED_POISSON)
+    solver.SetScreeningCoefficient(SQRT_C * SQRT_C)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    assert field(out, "OutsidePoints") == 0
+    assert_calibrated(z_scores(out, yukawa))
+    # A source: the exterior is not solved, and points outside are NaN.
+    solver.SetSourceExpression("1")
+    solver.Update()
+    assert field(solver.GetOutput(), "OutsidePoints") == len(outside)
+    assert "lie outside the closed boundary" in catcher.warning_text()
 
 
 def hessian3(x, y, z):

@@ -90,8 +90,9 @@ struct WalkSettings
   // estimators made without one step uniformly).
   ScreenedSteps Screening = ScreenedSteps::Automatic;
   // Walk on stars: a start point outside the closed mixed boundary walks in
-  // the domain on its other side (the exterior problem: Laplace equation,
-  // no Robin parts; WalkOnStars.h), as walk on spheres answers points on
+  // the domain on its other side (the exterior problem: the Laplace
+  // equation, or the screened one without sources, and no Robin parts;
+  // WalkOnStars.h), as walk on spheres answers points on
   // either side of a Dirichlet boundary. Off: every start point is taken to
   // lie in the given domain.
   bool MixedBothSides = false;

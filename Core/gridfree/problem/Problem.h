@@ -123,7 +123,9 @@ public:
   // would take them for inside: callers leave them out (MixedBoundary::Inside).
   bool AnswersOutside() const
   {
-    return this->Mixed && AnswersBothSides(*this->Mixed, this->Walk);
+    const bool sources = this->Walk.Problem != Equation::Laplace && this->Sources &&
+      !this->Sources->Empty();
+    return this->Mixed && AnswersBothSides(*this->Mixed, this->Walk, sources);
   }
 
 private:

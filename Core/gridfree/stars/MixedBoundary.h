@@ -128,7 +128,8 @@ public:
   // ignores them) and their orientation does not matter.
   //
   // `exterior` makes the domain the outside of the closed boundary (3D
-  // Laplace: u → 0 at infinity; WalkOnStars.h returns far walks exactly).
+  // Laplace: u → 0 at infinity, and WalkOnStars.h returns far walks
+  // exactly; the screened equation without sources: far walks end).
   // The mesh keeps its orientation (normals out of the object) and the flux
   // h is still ∂u/∂n along them: internally the domain's outward normal is
   // their opposite, h changes sign and silhouettes are taken for that side.

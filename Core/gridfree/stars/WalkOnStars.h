@@ -70,14 +70,23 @@
 
 namespace gridfree
 {
-// Whether walks on `boundary` answer start points on both of its sides
-// (WalkSettings::MixedBothSides): the exterior takes the Laplace equation
-// without Robin parts (sources are not read by the Laplace equation).
-template <int DIM>
-bool AnswersBothSides(const MixedBoundary<DIM>& boundary, const WalkSettings& settings)
+// Whether an exterior domain takes the equation: Laplace (which reads no
+// source), or screened Poisson without sources; not the Poisson equation,
+// whose sources outside have no bound.
+inline bool ExteriorTakes(const WalkSettings& settings, bool sources)
 {
-  return settings.MixedBothSides && settings.Problem == Equation::Laplace &&
-    !boundary.IsExterior() && boundary.CanTurnInsideOut();
+  return settings.Problem == Equation::Laplace ||
+    (settings.Problem == Equation::ScreenedPoisson && !sources);
+}
+
+// Whether walks on `boundary` answer start points on both of its sides
+// (WalkSettings::MixedBothSides): the exterior takes the Laplace equation,
+// or the screened one without sources (ExteriorTakes), and no Robin parts.
+template <int DIM>
+bool AnswersBothSides(const MixedBoundary<DIM>& boundary, const WalkSettings& settings, bool sources)
+{
+  return settings.MixedBothSides && ExteriorTakes(settings, sources) && !boundary.IsExterior() &&
+    boundary.CanTurnInsideOut();
 }
 
 template <int DIM>
@@ -94,7 +103,7 @@ public:
     const ConcentratedSourceSet<DIM>& concentrated = ConcentratedSourceSet<DIM>())
     : Given(boundary)
     , Geometry(&boundary)
-    , BothSides(AnswersBothSides(boundary, settings))
+    , BothSides(AnswersBothSides(boundary, settings, volume != nullptr || !concentrated.Empty()))
     , Settings(settings)
     , NumberOfComponents(boundary.Components())
     , Sources(boundary.Components(), settings.Sampling,
@@ -121,12 +130,10 @@ public:
         "a boundary without a Dirichlet part needs screening or a Robin part: with Neumann "
         "conditions alone the solution of a Laplace or Poisson equation is not unique");
     }
-    if (boundary.IsExterior() &&
-      (settings.Problem != Equation::Laplace || volume != nullptr ||
-        !concentrated.Empty()))
+    if (boundary.IsExterior() && !ExteriorTakes(settings, volume != nullptr || !concentrated.Empty()))
     {
-      throw std::invalid_argument(
-        "exterior mixed problems solve the Laplace equation without sources (yet)");
+      throw std::invalid_argument("exterior mixed problems solve the Laplace equation, or the "
+                                  "screened Poisson equation without sources (yet)");
     }
     const double diagonal = std::max(boundary.Diagonal(), settings.Epsilon);
     this->Center = boundary.Center();
@@ -224,7 +231,7 @@ private:
     const double far = s.FarRadiusFactor * this->EnclosingRadius;
     for (steps = 0;; ++steps)
     {
-      if (exterior && (x - this->Center).squaredNorm() > far * far)
+      if (!screened && exterior && (x - this->Center).squaredNorm() > far * far)
       {
         // Far outside (exterior domain, Laplace): back to the sphere about
         // the boundary with the probability Brownian motion ever returns,
