@@ -724,6 +724,36 @@ def test_point_conditions_in_2d():
     assert_solves_calibrated(solver, lambda x, y, z: x * x - y * y)
 
 
+def test_points_outside_in_2d():
+    # Outside the square, u = Re 1/(z - a) (a inside: harmonic outside and
+    # bounded, the 2D exterior problem's kind), Dirichlet x sides and
+    # Neumann y sides with its flux.
+    a = (0.1, -0.05)
+
+    def u(x, y, z):
+        return (x - a[0]) / ((x - a[0]) ** 2 + (y - a[1]) ** 2)
+
+    def flux(x, y):
+        dx, dy = x - a[0], y - a[1]
+        return -2.0 * dx * dy / (dx * dx + dy * dy) ** 2 * (1.0 if y > 0 else -1.0)
+
+    mesh = square_2d()
+    mesh.GetPointData().RemoveArray("T")
+    mesh.GetPointData().RemoveArray("h")
+    add_point_array(mesh, "T", u)
+    add_point_array(mesh, "h", lambda x, y, z: flux(x, y))
+    probe = vtkPolyData()
+    points = vtkPoints()
+    for i in range(200):  # 0.8 to 1.6 from the centre: all outside
+        angle, radius = 2.399963 * i, 0.8 + 0.8 * ((i * 0.618034) % 1.0)
+        points.InsertNextPoint(radius * math.cos(angle), radius * math.sin(angle), 0.0)
+    probe.SetPoints(points)
+    solver = flux_solver(probe, POINTS, seed=5)
+    solver.SetBoundaryData(mesh)
+    assert_solves_calibrated(solver, u)
+    assert field(solver.GetOutput(), "OutsidePoints") == 0
+
+
 def failing_solve(configure, level=3):
     solver = mixed_solver(box(level), cloud(4), walks=4)
     configure(solver, solver.GetInputDataObject(0, 0))
