@@ -791,6 +791,12 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   if (fd)
   {
     AddSummaryFields(fd, found, mixed, start.Outside);
+    if (problem.GetSources() && !problem.GetSources()->Empty() &&
+      WalkOnSpheresEstimator<DIM>::UsesSources(problem.Settings().Problem))
+    {
+      // The source sampling the walks took (Automatic decided by now).
+      AddFieldValue(fd, "SourceSamplingUsed", static_cast<double>(problem.Settings().Sampling));
+    }
     if (const PolynomialShift<DIM>* shift = problem.GetPolynomialShift())
     {
       // The walks estimated u − P: the degree of P, and the points outside

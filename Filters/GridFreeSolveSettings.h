@@ -54,7 +54,7 @@ struct SolveSettings
   gridfree::Equation Equation = gridfree::Equation::Laplace;
   double ScreeningCoefficient = 1.0;
   std::string SourceExpression;
-  gridfree::SourceSampling SourceSampling = gridfree::SourceSampling::GreensFunction;
+  gridfree::SourceSampling SourceSampling = gridfree::SourceSampling::Automatic;
   gridfree::ScreenedSteps ScreenedSteps = gridfree::ScreenedSteps::Automatic;
   gridfree::SourceOperator SourceOperator = gridfree::SourceOperator::Value;
   gridfree::BiharmonicStrategy BiharmonicStrategy = gridfree::BiharmonicStrategy::TreeWalking;

@@ -204,7 +204,8 @@ GRIDFREE_CHOICE_SETTER(
   Equation, "Laplace", "Poisson", "screened Poisson", "biharmonic", "varying coefficients")
 GRIDFREE_CHOICE_SETTER(SourceOperator, "value", "divergence", "curl")
 GRIDFREE_CHOICE_SETTER(
-  SourceSampling, "uniform", "Green's function", "multiple importance", "source density")
+  SourceSampling, "uniform", "Green's function", "multiple importance", "source density",
+  "automatic")
 GRIDFREE_CHOICE_SETTER(ScreenedSteps, "automatic", "uniform", "guided")
 GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
 GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
@@ -481,7 +482,9 @@ static_assert(vtkWalkOnSpheresSolver::UNIFORM == static_cast<int>(gridfree::Sour
   vtkWalkOnSpheresSolver::MULTIPLE_IMPORTANCE ==
     static_cast<int>(gridfree::SourceSampling::MultipleImportance) &&
   vtkWalkOnSpheresSolver::SOURCE_DENSITY ==
-    static_cast<int>(gridfree::SourceSampling::SourceDensity));
+    static_cast<int>(gridfree::SourceSampling::SourceDensity) &&
+  vtkWalkOnSpheresSolver::AUTOMATIC_SOURCE_SAMPLING ==
+    static_cast<int>(gridfree::SourceSampling::Automatic));
 static_assert(vtkWalkOnSpheresSolver::SOURCE_VALUE == static_cast<int>(gridfree::SourceOperator::Value) &&
   vtkWalkOnSpheresSolver::SOURCE_DIVERGENCE ==
     static_cast<int>(gridfree::SourceOperator::Divergence) &&

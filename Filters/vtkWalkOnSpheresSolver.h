@@ -441,14 +441,19 @@ public:
     UNIFORM = 0,
     GREENS_FUNCTION = 1,
     MULTIPLE_IMPORTANCE = 2,
-    SOURCE_DENSITY = 3
+    SOURCE_DENSITY = 3,
+    AUTOMATIC_SOURCE_SAMPLING = 4
   };
 
   ///@{
   /**
    * How a walk samples the volume source in each ball (paper Sec. 4.2):
-   * UNIFORM in the ball, proportional to the GREENS_FUNCTION (the default:
-   * best for smooth sources), or MULTIPLE_IMPORTANCE, one sample of each
+   * AUTOMATIC_SOURCE_SAMPLING (the default): SOURCE_DENSITY for a narrow
+   * source (half of |f|'s mass, on the grid below, in at most 2% of its
+   * cells), GREENS_FUNCTION otherwise; the field data SourceSamplingUsed
+   * says which (1 or 3). Or
+   * UNIFORM in the ball, proportional to the GREENS_FUNCTION (best for
+   * smooth sources), or MULTIPLE_IMPORTANCE, one sample of each
    * combined by the balance heuristic (robust for concentrated sources such
    * as bright spots in a CT volume, at twice the source evaluations), or
    * SOURCE_DENSITY, one sample proportional to the Green's function and one

@@ -77,7 +77,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, MixedBoundaryConditions
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NestedWalks, int, 1, VTK_INT_MAX)
 
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, Equation, gridfree::Equation, 4)
-GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceSampling, gridfree::SourceSampling, 3)
+GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceSampling, gridfree::SourceSampling, 4)
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceOperator, gridfree::SourceOperator, 2)
 GRIDFREE_CHOICE_ACCESSORS(vtkWalkOnSpheresSolverDriver, BiharmonicStrategy, gridfree::BiharmonicStrategy, 1)
 

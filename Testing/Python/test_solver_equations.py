@@ -235,8 +235,9 @@ def test_same_numbers_for_one_and_two_threads():
 # A source much narrower than the domain (u a Gaussian bump of width 0.1,
 # f = Δu): Source Density sampling finds it in every ball that holds it,
 # and the error bars are right at 256 walks (the other samplings read it
-# with mean z² near 2.5 there: User Guide §4).
-def test_narrow_source_with_source_density_sampling():
+# with mean z² near 2.5 there: User Guide §4). Automatic sampling, the
+# default, takes it; a broad source keeps Green's function sampling.
+def test_narrow_source_takes_source_density_sampling_by_default():
     r2 = "((x-0.2)^2+(y-0.1)^2+z^2)"
 
     def bump(x, y, z):
@@ -246,9 +247,14 @@ def test_narrow_source_with_source_density_sampling():
     solver = solver_for(boundary, cloud(count=200), walks=256,
                         equation=gridfree.vtkWalkOnSpheresSolver.POISSON)
     solver.SetSourceExpression(f"exp(-{r2}/0.02)*({r2}*10000-300)")
-    solver.SetSourceSampling(gridfree.vtkWalkOnSpheresSolver.SOURCE_DENSITY)
     solver.Update()
     assert_calibrated(solver.GetOutput(), bump)
+    used = solver.GetOutput().GetFieldData().GetArray("SourceSamplingUsed").GetTuple1(0)
+    assert used == gridfree.vtkWalkOnSpheresSolver.SOURCE_DENSITY
+    solver.SetSourceExpression("6 + sin(3*x)")
+    solver.Update()
+    used = solver.GetOutput().GetFieldData().GetArray("SourceSamplingUsed").GetTuple1(0)
+    assert used == gridfree.vtkWalkOnSpheresSolver.GREENS_FUNCTION
 
 
 # Bad input: a clear error, never a crash.

@@ -148,7 +148,7 @@ def test_enumeration_values_out_of_range_are_errors_that_name_the_choices():
     assert "SetEquation(7): Equation is one of 0 Laplace, 1 Poisson, 2 screened Poisson, " \
         "3 biharmonic, 4 varying coefficients; it stays Laplace." in catcher.error_text()
     solver.SetSourceSampling(9)
-    assert solver.GetSourceSampling() == gridfree.vtkWalkOnSpheresSolver.GREENS_FUNCTION
+    assert solver.GetSourceSampling() == gridfree.vtkWalkOnSpheresSolver.AUTOMATIC_SOURCE_SAMPLING
     assert "SetSourceSampling(9)" in catcher.error_text()
     for setter in ("SetSourceOperator", "SetBiharmonicStrategy", "SetCsgOperation"):
         getattr(solver, setter)(-1)

@@ -151,6 +151,7 @@ private:
     {
       throw std::invalid_argument("the equation with varying coefficients needs its coefficients");
     }
+    this->ResolveSourceSampling();
     // A mixed problem's flux makes its values vary even with constant g, and
     // so do varying coefficients.
     this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
@@ -554,21 +555,52 @@ private:
     return set;
   }
 
-  // Source-density sampling's map of |f| (SourceDensityMap.h), over the
-  // source's support within the boundary's box (walks inside the domain
-  // never leave it), or over the support alone when they do not meet
-  // (exterior problems), or the boundary's box for an unbounded support.
-  void BuildSourceDensity()
+  // Automatic source sampling: source-density sampling where |f| is
+  // concentrated (half of the map's mass in at most kNarrowSourceShare of
+  // its cells: a narrow source, which Green's-function samples find only in
+  // rare walks that each carry much of the value, so that a few hundred
+  // walks misreport their spread), Green's-function sampling elsewhere,
+  // where the map's second sample per step would cost without helping.
+  static constexpr double kNarrowSourceShare = 0.02;
+  void ResolveSourceSampling()
   {
-    if (this->Walk.Sampling != SourceSampling::SourceDensity || !this->Sources ||
-      !this->Sources->MakeVolume || !WalkOnSpheresEstimator<DIM>::UsesSources(this->Walk.Problem))
+    if (this->Walk.Sampling != SourceSampling::Automatic)
     {
       return;
+    }
+    this->Walk.Sampling = SourceSampling::GreensFunction;
+    std::shared_ptr<const SourceDensityMap<DIM>> map = this->MakeSourceDensityMap();
+    if (map && !map->Empty() && map->HalfMassCellShare() <= kNarrowSourceShare)
+    {
+      this->Walk.Sampling = SourceSampling::SourceDensity;
+      this->Density = std::move(map);
+    }
+  }
+
+  // Source-density sampling's map, unless Automatic built it already.
+  void BuildSourceDensity()
+  {
+    if (this->Walk.Sampling == SourceSampling::SourceDensity && !this->Density)
+    {
+      this->Density = this->MakeSourceDensityMap();
+    }
+  }
+
+  // The map of |f| (SourceDensityMap.h), over the source's support within
+  // the boundary's box (walks inside the domain never leave it), or over the
+  // support alone when they do not meet (exterior problems), or the
+  // boundary's box for an unbounded support; null without a volume source.
+  std::shared_ptr<const SourceDensityMap<DIM>> MakeSourceDensityMap() const
+  {
+    if (!this->Sources || !this->Sources->MakeVolume ||
+      !WalkOnSpheresEstimator<DIM>::UsesSources(this->Walk.Problem))
+    {
+      return nullptr;
     }
     auto volume = this->MakeVolume();
     if (!volume)
     {
-      return;
+      return nullptr;
     }
     const BoundingBox<DIM> domain = this->DomainBox();
     BoundingBox<DIM> box = domain;
@@ -580,7 +612,7 @@ private:
     }
     auto map = std::make_shared<SourceDensityMap<DIM>>();
     map->Build(*volume, this->Shape->Components(), box);
-    this->Density = std::move(map);
+    return map;
   }
 
 

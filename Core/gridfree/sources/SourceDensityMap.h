@@ -32,6 +32,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace gridfree
@@ -137,6 +138,26 @@ public:
   }
 
   bool Empty() const { return this->Mass.empty(); }
+
+  // The share of the cells that hold half of the mass (the heaviest first):
+  // small for a source concentrated in a small part of the box, about a
+  // half for an even one; 1 for an empty map.
+  double HalfMassCellShare() const
+  {
+    if (this->Mass.empty())
+    {
+      return 1.0;
+    }
+    std::vector<double> heaviest(this->Mass);
+    std::sort(heaviest.begin(), heaviest.end(), std::greater<double>());
+    double held = 0.0;
+    std::size_t cells = 0;
+    while (cells < heaviest.size() && held < 0.5 * this->TotalMass)
+    {
+      held += heaviest[cells++];
+    }
+    return static_cast<double>(cells) / static_cast<double>(heaviest.size());
+  }
   std::size_t NumberOfCells() const { return this->Mass.size(); }
   double CellSize() const { return this->Cell; }
 

@@ -11,7 +11,10 @@ enum class SourceSampling
   Uniform,            // y ~ U(B): weight |B| G(x, y)
   GreensFunction,     // y ~ G / ∫G: weight ∫G (App. B samplers)
   MultipleImportance, // one sample of each, balance heuristic (Veach & Guibas 1995)
-  SourceDensity       // y ~ G / ∫G and y ~ |f| (SourceDensityMap.h), balance heuristic
+  SourceDensity,      // y ~ G / ∫G and y ~ |f| (SourceDensityMap.h), balance heuristic
+  Automatic           // SourceDensity for a narrow volume source, else GreensFunction
+                      // (Problem decides from |f|; an estimator made without a
+                      // Problem takes GreensFunction)
 };
 
 } // namespace gridfree

@@ -175,6 +175,7 @@ public:
           break;
         }
         case SourceSampling::GreensFunction:
+        case SourceSampling::Automatic: // (undecided: Problem resolves it)
         {
           const Vec<DIM> d = green.SampleOffset(rng);
           this->AddVolumeSample(x + d, green.Integral(), integral, keep);

@@ -9,7 +9,9 @@
 //   a tenth of the points flagged by the conservative skewness rule); with
 //   Green's-function sampling the same case in 3D is heavy-tailed (mean z²
 //   above 1.6), so this test would fail if the new strategy fell back to
-//   it.
+//   it;
+// * Automatic sampling takes source density for those narrow sources and
+//   Green's-function sampling for broad or constant ones.
 #include <gridfree/problem/Problem.h>
 #include <gridfree/sources/SourceDensityMap.h>
 #include "EstimatorChecks.h"
@@ -182,8 +184,43 @@ void ExpectNarrowSourceCalibrated()
     EXPECT_GT(g.MeanZ2, 1.6);
   }
 }
+// Automatic sampling (Problem::ResolveSourceSampling) takes source-density
+// sampling for the narrow bumps above and Green's-function sampling for a
+// broad one or a constant source.
+template <int DIM>
+SourceSampling AutomaticChoice(const Field<DIM>& f)
+{
+  auto sources = std::make_shared<SourceSet<DIM>>();
+  sources->MakeVolume = [f](double) { return std::make_unique<FunctionSource<DIM>>(f); };
+  WalkSettings settings;
+  settings.Problem = Equation::Poisson;
+  settings.Sampling = SourceSampling::Automatic;
+  const auto boundary = std::make_shared<const Boundary<DIM>>(
+    MakeBoundary<DIM>(UnitSphereMesh<DIM>(), { [](const Vec<DIM>&) { return 0.0; } }));
+  return Problem<DIM>(boundary, settings, sources).Settings().Sampling;
+}
+
+template <int DIM>
+void ExpectAutomaticChoice()
+{
+  for (double s : { 0.05, 0.1 })
+  {
+    EXPECT_EQ(AutomaticChoice<DIM>(BumpLaplacian<DIM>(s)), SourceSampling::SourceDensity)
+      << "s = " << s;
+  }
+  EXPECT_EQ(AutomaticChoice<DIM>(BumpLaplacian<DIM>(0.5)), SourceSampling::GreensFunction);
+  EXPECT_EQ(AutomaticChoice<DIM>([](const Vec<DIM>&) { return -3.0; }), SourceSampling::GreensFunction);
+  // The walks are those of the choice, bit for bit (the largest |z| is
+  // exact; the mean z² is summed in the threads' order).
+  const Outcome automatic = SolveNarrowSource<DIM>(0.1, SourceSampling::Automatic, 64);
+  const Outcome density = SolveNarrowSource<DIM>(0.1, SourceSampling::SourceDensity, 64);
+  EXPECT_EQ(automatic.MaxAbsZ, density.MaxAbsZ);
+  EXPECT_NEAR(automatic.MeanZ2, density.MeanZ2, 1e-12 * density.MeanZ2);
+}
 } // namespace
 
+TEST(SourceSamplingNarrow, AutomaticTakesSourceDensityForNarrowSources2D) { ExpectAutomaticChoice<2>(); }
+TEST(SourceSamplingNarrow, AutomaticTakesSourceDensityForNarrowSources3D) { ExpectAutomaticChoice<3>(); }
 TEST(SourceDensityMap, SamplesFollowThePdf2D) { ExpectSamplesFollowThePdf<2>(); }
 TEST(SourceDensityMap, SamplesFollowThePdf3D) { ExpectSamplesFollowThePdf<3>(); }
 TEST(SourceSamplingNarrow, SourceDensityIsCalibrated2D) { ExpectNarrowSourceCalibrated<2>(); }
