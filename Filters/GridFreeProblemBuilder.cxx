@@ -810,8 +810,9 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   settings.Sampling = s.SourceSampling;
   settings.Screening = s.ScreenedSteps;
   // Mixed conditions: points outside the closed boundary get the exterior
-  // problem's answer where it is solved (Laplace, no Robin parts), as walk
-  // on spheres answers points on both sides.
+  // problem's answer where it is solved (the Laplace equation, or the
+  // screened one without sources, and no Robin parts: AnswersBothSides), as
+  // walk on spheres answers points on both sides.
   settings.MixedBothSides = true;
   settings.Biharmonic = s.BiharmonicStrategy;
   settings.NestedWalks = s.NestedWalks;
