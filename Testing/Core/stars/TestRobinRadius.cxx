@@ -1,12 +1,14 @@
 // The Robin radius with node bounds (RobinRadius.h) against the same bound
-// taken over every primitive: the same radius, bit for bit, on the U (2D)
-// and the L prism (3D) with Robin coefficients that vary (and are 0 on some
+// taken over every primitive: the same radius, bit for bit, on the U (2D),
+// the L prism (3D, flat faces) and a sphere (3D, curved: the nodes' normal
+// cones open) with Robin coefficients that vary (and are 0 on some
 // primitives), at points inside, near the boundary and outside, for star
 // radii from tiny to larger than the shape. (What the bounds save is
 // measured by ./gridfree bench --stars.)
 #include <gridfree/stars/MixedBoundary.h>
 
 #include "MixedShapes.h"
+#include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
@@ -52,14 +54,15 @@ double BruteForce(const MixedBoundary<DIM>& b, const Vec<DIM>& x, double R)
 }
 
 template <int DIM>
-void ExpectSameAsBruteForce(const Shape<DIM>& shape, const std::function<bool(const Vec<DIM>&)>& isDirichlet)
+void ExpectSameAsBruteForce(const SimplexMesh<DIM>& mesh,
+  const std::function<bool(const Vec<DIM>&)>& isDirichlet, double low = -0.3, double high = 1.6)
 {
-  const MixedBoundary<DIM> b = MakeMixed<DIM>(shape.Mesh, isDirichlet,
+  const MixedBoundary<DIM> b = MakeMixed<DIM>(mesh, isDirichlet,
     [](const Vec<DIM>&) { return 0.0; }, [](const Vec<DIM>&) { return Vec<DIM>(Vec<DIM>::Zero()); },
     true, 1.0, Mu<DIM>);
   ASSERT_TRUE(b.HasRobin());
   std::mt19937 rng(17);
-  std::uniform_real_distribution<double> u(-0.3, 1.6);
+  std::uniform_real_distribution<double> u(low, high);
   std::uniform_real_distribution<double> logR(-6.0, 0.5);
   int shrunk = 0;
   for (int i = 0; i < 3000; ++i)
@@ -79,7 +82,9 @@ void ExpectSameAsBruteForce(const Shape<DIM>& shape, const std::function<bool(co
 
 TEST(RobinRadius, NodeBoundsGiveTheRadiusOfEveryPrimitive)
 {
-  ExpectSameAsBruteForce<2>(UShape(), [](const Vec2& c) { return c[1] < 1e-9; });
-  ExpectSameAsBruteForce<3>(LPrism(), LPrismDirichlet);
+  ExpectSameAsBruteForce<2>(UShape().Mesh, [](const Vec2& c) { return c[1] < 1e-9; });
+  ExpectSameAsBruteForce<3>(LPrism().Mesh, LPrismDirichlet);
+  ExpectSameAsBruteForce<3>(
+    MakeIcosphere(3), [](const Vec3& c) { return c[2] < -0.4; }, -1.2, 1.2);
 }
 } // namespace robin_radius_tests
