@@ -118,8 +118,8 @@ std::string SolutionName(const std::string& wanted, vtkPointData* pd, const Warn
 
 // The points the walks start from, and those that get NaN results without
 // walking: points with NaN or infinite coordinates, and, with mixed
-// conditions where the exterior problem is not solved (Robin parts, the
-// Poisson equation, sources: Problem::AnswersOutside), points outside
+// conditions where the exterior problem is not solved (the Poisson
+// equation, sources: Problem::AnswersOutside), points outside
 // the closed boundary, rather than an answer of the interior problem walked
 // from the wrong side.
 template <int DIM>
@@ -187,7 +187,7 @@ struct StartPoints
            << " probe points lie outside the closed boundary: their results are NaN (field "
               "data OutsidePoints). With mixed boundary conditions (walk on stars) the exterior "
               "problem is solved for the Laplace equation, or the screened Poisson equation "
-              "without a source, and without Robin cells.";
+              "without a source.";
       warn(text.str());
     }
   }

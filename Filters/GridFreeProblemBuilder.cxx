@@ -811,7 +811,7 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   settings.Screening = s.ScreenedSteps;
   // Mixed conditions: points outside the closed boundary get the exterior
   // problem's answer where it is solved (the Laplace equation, or the
-  // screened one without sources, and no Robin parts: AnswersBothSides), as
+  // screened one without sources: AnswersBothSides), as
   // walk on spheres answers points on both sides.
   settings.MixedBothSides = true;
   settings.Biharmonic = s.BiharmonicStrategy;

@@ -284,9 +284,12 @@ public:
    * the other side, the sign of a wrong orientation or a leak. The boundary
    * must be closed: probe points outside it solve the exterior problem with
    * the same conditions (u → 0 at infinity in 3D, bounded in 2D) for the
-   * Laplace equation, or the screened Poisson equation without a source,
-   * and without Robin cells; otherwise they are NaN (field
-   * data OutsidePoints, with a warning). Laplace,
+   * Laplace equation, or the screened Poisson equation without a source;
+   * otherwise they are NaN (field data OutsidePoints, with a warning).
+   * Outside, a Neumann flux keeps its direction (along the cells' normals,
+   * out of the object) and a Robin condition is taken along the normal
+   * out of the exterior domain (μ > 0, h/μ what the surface exchanges
+   * with, on either side). Laplace,
    * Poisson and screened Poisson equations, the solution and its
    * derivatives (a first ball clear of the whole boundary, then walk on
    * stars): not the biharmonic equation, implicit, CSG or two-sided

@@ -169,12 +169,12 @@ def test_dirichlet_neumann_and_robin_faces_of_a_box():
     n = out.GetNumberOfPoints()
     scores = z_scores(out, u3)[: n - len(outside)]
     assert_calibrated(scores)
-    # Points outside the closed boundary are left out where the exterior is
-    # not solved (here: Robin faces), and said so.
+    # Points outside the closed boundary get the exterior problem's answer
+    # (checked against a closed form in the Robin exterior test below).
     values = out.GetPointData().GetArray("T")
-    assert all(math.isnan(values.GetTuple1(i)) for i in range(n - len(outside), n))
-    assert field(out, "OutsidePoints") == len(outside)
-    assert "lie outside the closed boundary" in catcher.warning_text()
+    assert all(math.isfinite(values.GetTuple1(i)) for i in range(n - len(outside), n))
+    assert field(out, "OutsidePoints") == 0
+    assert "lie outside the closed boundary" not in catcher.warning_text()
     assert field(out, "BackFaceHits") == 0
 
 
@@ -205,10 +205,13 @@ def yukawa_gradient(x, y, z):
     return tuple(scale * (p - a) for p, a in zip((x, y, z), CHARGE))
 
 
-def potential_box(u=potential, gradient=potential_gradient):
+def potential_box(u=potential, gradient=potential_gradient, exterior_robin=False):
     """The box of box() with T = u, by default 1/|x - a| (a inside:
     harmonic outside, 0 at infinity), Dirichlet x faces and Neumann y and z
-    faces with the flux h = dT/dn at each face's points."""
+    faces with the flux h = dT/dn at each face's points. With
+    `exterior_robin`, the z faces are Robin (mu = ROBIN) for the exterior
+    problem: h = dT/dn' + mu T along the normal n' out of the exterior
+    domain (the opposite of the mesh's)."""
     mesh = box(level=10)
     mesh.GetPointData().RemoveArray("T")
     mesh.GetPointData().RemoveArray("h")
@@ -217,15 +220,18 @@ def potential_box(u=potential, gradient=potential_gradient):
     point_normal = {}
     for cell in range(mesh.GetNumberOfCells()):
         axis, n = face_normal(cell_centre(mesh, cell))
-        bc.SetValue(cell, 0 if axis == 0 else 1)
+        robin = exterior_robin and axis == 2
+        bc.SetValue(cell, 0 if axis == 0 else (2 if robin else 1))
         ids = mesh.GetCell(cell).GetPointIds()
         for k in range(ids.GetNumberOfIds()):
-            point_normal[ids.GetId(k)] = n
+            point_normal[ids.GetId(k)] = (n, robin)
     h = vtkDoubleArray()
     h.SetName("h")
     for i in range(mesh.GetNumberOfPoints()):
         p = mesh.GetPoint(i)
-        h.InsertNextValue(sum(g * nk for g, nk in zip(gradient(*p), point_normal[i])))
+        n, robin = point_normal[i]
+        flux = sum(g * nk for g, nk in zip(gradient(*p), n))
+        h.InsertNextValue(ROBIN * u(*p) - flux if robin else flux)
     mesh.GetPointData().AddArray(h)
     return mesh
 
@@ -262,6 +268,21 @@ def test_points_outside_get_the_exterior_problems_answer():
     assert_calibrated(component_z_scores(out, "T_Gradient", potential_gradient, range(3))[3 * inside:])
     values = out.GetPointData().GetArray("T")
     assert all(math.isfinite(values.GetTuple1(i)) for i in range(inside))
+
+
+def test_points_outside_get_the_robin_exterior_problems_answer():
+    # Robin z faces outside: the condition holds along the normal out of
+    # the exterior domain, so mu > 0 keeps its meaning on either side.
+    outside = shell_points(150)
+    solver = mixed_solver(potential_box(exterior_robin=True), cloud(0, outside=outside),
+                          walks=256)
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    out = solver.GetOutput()
+    assert not catcher.errors, catcher.error_text()
+    assert field(out, "OutsidePoints") == 0
+    assert field(out, "BackFaceHits") == 0
+    assert_calibrated(z_scores(out, potential))
 
 
 def test_points_outside_get_the_screened_exterior_problems_answer():

@@ -91,8 +91,7 @@ struct WalkSettings
   ScreenedSteps Screening = ScreenedSteps::Automatic;
   // Walk on stars: a start point outside the closed mixed boundary walks in
   // the domain on its other side (the exterior problem: the Laplace
-  // equation, or the screened one without sources, and no Robin parts;
-  // WalkOnStars.h), as walk on spheres answers points on
+  // equation, or the screened one without sources; WalkOnStars.h), as walk on spheres answers points on
   // either side of a Dirichlet boundary. Off: every start point is taken to
   // lie in the given domain.
   bool MixedBothSides = false;

@@ -133,7 +133,10 @@ public:
   // The mesh keeps its orientation (normals out of the object) and the flux
   // h is still ∂u/∂n along them: internally the domain's outward normal is
   // their opposite, h changes sign and silhouettes are taken for that side.
-  // No Robin parts there yet.
+  // A Robin condition ∂u/∂n + μu = h is taken along the normal out of the
+  // domain solved, on either side, so that μ > 0 keeps the problem
+  // well posed and h/μ stays what the surface exchanges with (h does not
+  // change sign on Robin primitives; FluxSign).
   void Set(std::shared_ptr<const Boundary<DIM>> dirichlet,
     std::shared_ptr<const Boundary<DIM>> reflecting, std::vector<double> robin = {},
     bool silhouettes = true, std::vector<std::uint8_t> twoSided = {}, bool exterior = false)
@@ -178,11 +181,6 @@ public:
         throw std::invalid_argument(
           "mixed boundary: an insulating sheet has no Robin coefficient");
       }
-    }
-    if (exterior && std::any_of(robin.begin(), robin.end(), [](double mu) { return mu > 0.0; }))
-    {
-      throw std::invalid_argument(
-        "mixed boundary: Robin conditions are not available in exterior problems yet");
     }
     this->ExteriorDomain = exterior;
     this->WithSilhouettes = silhouettes;
@@ -298,27 +296,22 @@ public:
 
   // Whether the domain is the outside of the boundary (Set's `exterior`).
   bool IsExterior() const { return this->ExteriorDomain; }
-  // The sign turning the reflecting part's flux (along the mesh's normals)
-  // into ∂u/∂n along the domain's outward normal.
-  double FluxSign() const { return this->ExteriorDomain ? -1.0 : 1.0; }
-
-  // Whether the domain on the boundary's other side can be solved in
-  // (OtherSide): not with Robin parts, which exterior domains do not take yet.
-  bool CanTurnInsideOut() const { return !this->AnyRobin; }
+  // The sign turning the reflecting part's value h on `primitive` into the
+  // right-hand side along the domain's outward normal: a Neumann flux is
+  // given along the mesh's normals (−1 outside), a Robin condition along
+  // the domain's own normal (+1 on either side; Set).
+  double FluxSign(std::int64_t primitive) const
+  {
+    return this->ExteriorDomain && !(this->RobinCoefficient(primitive) > 0.0) ? -1.0 : 1.0;
+  }
 
   // The same boundary with the domain on its other side (the exterior of an
   // interior domain, and back): what walks from points outside the closed
   // boundary walk in (WalkOnStars.h, WalkSettings::MixedBothSides). Built
   // on first use, once, and shared by every copy of this boundary, so that
-  // a problem whose points all lie inside never pays for it. Throws when
-  // !CanTurnInsideOut().
+  // a problem whose points all lie inside never pays for it.
   const MixedBoundary& OtherSide() const
   {
-    if (!this->CanTurnInsideOut())
-    {
-      throw std::invalid_argument(
-        "mixed boundary: Robin conditions are not available in exterior problems yet");
-    }
     OtherSideSlot& slot = *this->Other;
     std::call_once(slot.Once, [&] {
       auto other = std::make_shared<MixedBoundary<DIM>>();

@@ -81,12 +81,11 @@ inline bool ExteriorTakes(const WalkSettings& settings, bool sources)
 
 // Whether walks on `boundary` answer start points on both of its sides
 // (WalkSettings::MixedBothSides): the exterior takes the Laplace equation,
-// or the screened one without sources (ExteriorTakes), and no Robin parts.
+// or the screened one without sources (ExteriorTakes).
 template <int DIM>
 bool AnswersBothSides(const MixedBoundary<DIM>& boundary, const WalkSettings& settings, bool sources)
 {
-  return settings.MixedBothSides && ExteriorTakes(settings, sources) && !boundary.IsExterior() &&
-    boundary.CanTurnInsideOut();
+  return settings.MixedBothSides && ExteriorTakes(settings, sources) && !boundary.IsExterior();
 }
 
 template <int DIM>
@@ -401,7 +400,8 @@ private:
   // even mixture of the hierarchy's sampling and SampleInPlane in that
   // primitive's plane, and pdf is the mixture's (one-sample, balance
   // heuristic). The flux is taken along the domain's outward normal
-  // (FluxSign: an exterior domain's is opposite to the mesh's).
+  // (FluxSign: an exterior domain's is opposite to the mesh's on Neumann
+  // primitives).
   template <class Green>
   void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
     std::int64_t onPrimitive, double radius, const Green& green, double factor, RandomStream& rng)
@@ -456,7 +456,7 @@ private:
     at.barycentric = z.Barycentric;
     b.Reflecting().Evaluate(at, this->Inner.data());
     const double w =
-      b.FluxSign() * factor * green.Value(std::max(r, this->MinDistance)) / z.Pdf;
+      b.FluxSign(z.Primitive) * factor * green.Value(std::max(r, this->MinDistance)) / z.Pdf;
     for (int c = 0; c < this->NumberOfComponents; ++c)
     {
       this->Accumulated[c] += w * this->Inner[c];

@@ -120,7 +120,9 @@ using RobinRule = std::function<double(const Vec<DIM>&)>;
 
 // The mixed boundary of a shape: primitives for which `isDirichlet(centroid)`
 // holds take g = u, the others h = ∂u/∂n + μu with μ = robin(centroid) (n
-// the shape's outward normal); `exterior` solves outside the shape.
+// the shape's outward normal); `exterior` solves outside the shape, where
+// the Robin primitives take ∂u/∂n along the opposite normal (out of the
+// exterior domain) and the Neumann ones keep the shape's.
 template <int DIM>
 MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
   const std::function<bool(const Vec<DIM>&)>& isDirichlet, const Field<DIM>& u,
@@ -164,9 +166,12 @@ MixedBoundary<DIM> MakeMixed(const SimplexMesh<DIM>& mesh,
     reflecting = std::make_shared<Boundary<DIM>>();
     reflecting->SetMesh(r.Vertices, r.Primitives,
       std::make_shared<CallableBoundaryValues<DIM>>(
-        [u, grad, normals, partMu, fluxScale](const Vec<DIM>& z, std::int64_t prim, double* out) {
+        [u, grad, normals, partMu, fluxScale, exterior](const Vec<DIM>& z, std::int64_t prim, double* out) {
           const std::size_t i = static_cast<std::size_t>(prim);
-          out[0] = fluxScale * (grad(z).dot(normals[i]) + partMu[i] * u(z));
+          // Outside, a Robin condition holds along the exterior domain's
+          // own normal (MixedBoundary::Set), a Neumann flux along the mesh's.
+          const double along = exterior && partMu[i] > 0.0 ? -1.0 : 1.0;
+          out[0] = fluxScale * (along * grad(z).dot(normals[i]) + partMu[i] * u(z));
         },
         1));
   }

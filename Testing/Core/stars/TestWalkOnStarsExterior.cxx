@@ -4,8 +4,8 @@
 // infinity), the flux given along the mesh's outward normals as for an
 // interior problem. Every point |z| < 5, mean z² in [0.7, 1.4], no back-face
 // hits; the same data solved as if the domain were inside (reflection off
-// the wrong side, the flux's sign) fails the check. The screened equation
-// outside against e^{−√c r}/r. Through a Problem that
+// the wrong side, the flux's sign) fails the check. A Robin part outside,
+// and the screened equation outside against e^{−√c r}/r. Through a Problem that
 // answers both sides (WalkSettings::MixedBothSides), the points outside get
 // the exterior's value and gradient and those inside the same bits as
 // without it.
@@ -54,12 +54,33 @@ std::vector<Vec3> PointsOutside(const MixedBoundary<3>& inside, int count, std::
   return points;
 }
 
+// The Robin coefficient of every primitive of a boundary's reflecting part.
+std::vector<double> RobinCoefficients(const MixedBoundary<3>& b)
+{
+  std::vector<double> mu(b.Reflecting().NumberOfPrimitives());
+  for (std::size_t i = 0; i < mu.size(); ++i)
+  {
+    mu[i] = b.RobinCoefficient(static_cast<std::int64_t>(i));
+  }
+  return mu;
+}
+
 Calibration Solve(const MixedBoundary<3>& b, const std::vector<Vec3>& points, int walks,
   std::uint64_t& backHits)
 {
   WalkSettings settings;
   settings.Epsilon = 1e-4;
   return CalibrateStars<3>(b, settings, points, Potential, walks, 2028, backHits);
+}
+
+// 256 walks at `points` outside: calibrated, no back-face hits.
+void ExpectCalibratedOutside(const char* name, const MixedBoundary<3>& outside, const std::vector<Vec3>& points)
+{
+  std::uint64_t backHits = 0;
+  const Calibration c = Solve(outside, points, 256, backHits);
+  std::printf("%s: mean z² %.3f, max |z| %.2f\n", name, c.MeanZ2, c.MaxAbsZ);
+  ExpectCalibrated(c, static_cast<int>(points.size()));
+  EXPECT_EQ(backHits, 0u);
 }
 
 TEST(WalkOnStarsExterior, LPrismWithANeumannPart)
@@ -71,16 +92,45 @@ TEST(WalkOnStarsExterior, LPrismWithANeumannPart)
     prism.Mesh, LPrismDirichlet, Potential, PotentialGradient, true, 1.0, nullptr, true);
   ASSERT_TRUE(outside.IsExterior());
   const auto points = PointsOutside(inside, 150, 3);
+  ExpectCalibratedOutside("exterior L prism", outside, points);
   std::uint64_t backHits = 0;
-  const Calibration c = Solve(outside, points, 256, backHits);
-  std::printf("exterior L prism: mean z² %.3f, max |z| %.2f\n", c.MeanZ2, c.MaxAbsZ);
-  ExpectCalibrated(c, 150);
-  EXPECT_EQ(backHits, 0u);
   const Calibration wrong = Solve(inside, points, 256, backHits);
   std::printf("solved as interior: mean z² %.3f, max |z| %.2f, back-face hits %llu\n",
     wrong.MeanZ2, wrong.MaxAbsZ, static_cast<unsigned long long>(backHits));
   EXPECT_TRUE(wrong.MeanZ2 > 2.0 || wrong.MaxAbsZ > 5.0);
   EXPECT_GT(backHits, 0u);
+}
+
+// A Robin top face (μ = 1.5) outside: the condition ∂u/∂n + μu = h along
+// the normal out of the exterior domain (MixedBoundary::Set), the other
+// reflecting faces Neumann with the flux along the mesh's normals. The
+// same data with the Robin part's ∂u/∂n taken along the mesh's normals
+// instead (h for the interior's convention) must fail the check.
+TEST(WalkOnStarsExterior, LPrismWithARobinPart)
+{
+  const Shape<3> prism = LPrism();
+  const RobinRule<3> top = [](const Vec3& c) { return c[2] > 0.59 ? 1.5 : 0.0; };
+  const MixedBoundary<3> inside =
+    MakeMixed<3>(prism.Mesh, LPrismDirichlet, Potential, PotentialGradient);
+  const MixedBoundary<3> outside = MakeMixed<3>(
+    prism.Mesh, LPrismDirichlet, Potential, PotentialGradient, true, 1.0, top, true);
+  ASSERT_TRUE(outside.IsExterior());
+  ASSERT_TRUE(outside.HasRobin());
+  const auto points = PointsOutside(inside, 150, 5);
+  ExpectCalibratedOutside("exterior L prism, Robin top", outside, points);
+
+  // The interior's data (∂u/∂n along the mesh's normals) on the same
+  // exterior domain: the Robin faces' h off by 2 ∂u/∂n.
+  const MixedBoundary<3> interiorData =
+    MakeMixed<3>(prism.Mesh, LPrismDirichlet, Potential, PotentialGradient, true, 1.0, top);
+  MixedBoundary<3> wrongSide;
+  wrongSide.Set(interiorData.SharedDirichlet(), interiorData.SharedReflecting(),
+    RobinCoefficients(interiorData), true, {}, true);
+  std::uint64_t backHits = 0;
+  const Calibration wrong = Solve(wrongSide, points, 256, backHits);
+  std::printf("Robin data of the interior's convention: mean z² %.3f, max |z| %.2f\n",
+    wrong.MeanZ2, wrong.MaxAbsZ);
+  EXPECT_TRUE(wrong.MeanZ2 > 2.0 || wrong.MaxAbsZ > 5.0);
 }
 
 // The screened equation outside: u = e^{−√c r}/r, r = |x − a| (Yukawa, a
@@ -201,11 +251,11 @@ TEST(WalkOnStarsExterior, ProblemAnswersBothSides)
     EXPECT_EQ(e.Mean(i, layout.Gradient), alone.Mean(k, layout.Gradient));
   }
 
-  // A Robin part: the exterior is not solved, so outside points are not answered.
+  // With a Robin part too (LPrismWithARobinPart checks its answers).
   settings.MixedBothSides = true;
   const auto robin = std::make_shared<const MixedBoundary<3>>(MakeMixed<3>(prism.Mesh,
     LPrismDirichlet, Potential, PotentialGradient, true, 1.0, [](const Vec3&) { return 1.0; }));
-  EXPECT_FALSE(Problem<3>(robin, settings).AnswersOutside());
+  EXPECT_TRUE(Problem<3>(robin, settings).AnswersOutside());
 }
 
 TEST(WalkOnStarsExterior, RefusesWhatItCannotSolve)
@@ -216,8 +266,5 @@ TEST(WalkOnStarsExterior, RefusesWhatItCannotSolve)
   WalkSettings poisson;
   poisson.Problem = Equation::Poisson;
   EXPECT_THROW(WalkOnStarsEstimator<3>(outside, poisson), std::invalid_argument);
-  EXPECT_THROW(MakeMixed<3>(prism.Mesh, LPrismDirichlet, Potential, PotentialGradient, true, 1.0,
-                 [](const Vec3&) { return 1.0; }, true),
-    std::invalid_argument);
 }
 } // namespace exterior_stars_tests
