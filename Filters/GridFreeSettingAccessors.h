@@ -53,6 +53,7 @@ inline void PrintProblemSettings(std::ostream& os, vtkIndent indent, const Solve
   os << indent << "ComputeHessian: " << onOff(s.ComputeHessian) << "\n";
   os << indent << "ControlVariates: " << onOff(s.ControlVariates) << "\n";
   os << indent << "AntitheticPairs: " << onOff(s.AntitheticPairs) << "\n";
+  os << indent << "NearBoundarySplitting: " << onOff(s.NearBoundarySplitting) << "\n";
   os << indent << "ComputeDirectionalDerivative: " << onOff(s.ComputeDirectionalDerivative)
      << "\n";
   os << indent << "DerivativeDirection: " << s.DerivativeDirection[0] << " "

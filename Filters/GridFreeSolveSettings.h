@@ -114,6 +114,8 @@ struct SolveSettings
   bool ComputeGradient = false;
   bool ComputeHessian = false;
   bool ControlVariates = true;
+  // Walks from near the boundary split as they go deep (WalkSettings).
+  bool NearBoundarySplitting = false;
   bool AntitheticPairs = false;
   bool ComputeDirectionalDerivative = false;
   std::array<double, 3> DerivativeDirection = { 1.0, 0.0, 0.0 };

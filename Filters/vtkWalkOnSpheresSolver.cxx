@@ -229,6 +229,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeGradient, bool, false,
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeHessian, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ControlVariates, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, AntitheticPairs, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, NearBoundarySplitting, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolver, ComputeDirectionalDerivative, bool, false, true)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryValueExpression)
 GRIDFREE_EXPRESSION_ACCESSORS(vtkWalkOnSpheresSolver, BoundaryLaplacianExpression)

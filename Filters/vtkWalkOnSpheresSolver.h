@@ -571,6 +571,31 @@ public:
 
   ///@{
   /**
+   * Near-boundary splitting (default off). From a point near the boundary
+   * most walks end close by, and the rare one that wanders deep brings back
+   * what the others never see (the source's integral, data far away): a
+   * heavy tail that a few hundred walks misjudge, with error bars too small.
+   * With splitting, a walk whose ball grows to twice the largest it had
+   * goes on as two walks of half its weight (up to a tenth of the
+   * boundary's diagonal, or the screening length 1/√c; at most 32
+   * branches per walk), so that nearly every walk carries a share of the
+   * deep ones. Unbiased; walks from points farther than half that depth
+   * from the boundary walk as without it (those that go on from a first
+   * ball's sphere, for derivatives and the control variates, start anew
+   * there and may split), those near it cost more walk steps (on
+   * the CT workflow's default solve 1.5 times the time). Off by default:
+   * outside a closed boundary nearly every walk splits to the cap, and
+   * with very few walks (32) on data that jump the intermediate values of
+   * split walks hide the "all walks agree" sign of the error-bar rule.
+   * Walk on spheres (Dirichlet conditions), not the biharmonic equation.
+   */
+  virtual void SetNearBoundarySplitting(bool value);
+  bool GetNearBoundarySplitting();
+  vtkBooleanMacro(NearBoundarySplitting, bool);
+  ///@}
+
+  ///@{
+  /**
    * Estimate the directional derivative Z·∇u along DerivativeDirection Z
    * (default off; Sec. 3.2): `T_DirectionalDerivative` and its variance,
    * computed walk by walk so the variance is exact. Z is used as given (not

@@ -70,6 +70,7 @@ GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AbsorptionFromArray, bo
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, SourceTermFromArray, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, ControlVariates, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, AntitheticPairs, bool, false, true)
+GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, NearBoundarySplitting, bool, false, true)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, LipschitzBound, double, 1e-300, VTK_DOUBLE_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, CsgBlendRadius, double, 0.0, VTK_DOUBLE_MAX)
 GRIDFREE_SETTING_ACCESSORS(vtkWalkOnSpheresSolverDriver, TwoSidedBoundaryValues, bool, false, true)

@@ -164,6 +164,15 @@ public:
 
   ///@{
   /**
+   * Walks from near the boundary split in two as they go deep (default
+   * off; vtkWalkOnSpheresSolver::SetNearBoundarySplitting).
+   */
+  void SetNearBoundarySplitting(bool on);
+  bool GetNearBoundarySplitting();
+  ///@}
+
+  ///@{
+  /**
    * The output: the lines or samples (vtkPolyData).
    */
   vtkPolyData* GetOutput();

@@ -10,6 +10,7 @@ Prints, for both sets, the number of z values, their mean z², the largest
 |z| and how often the 128-walk solves flagged them.
 
     pvbatch ct_error_bars.py [--seeds 10] [--reference 32768] [--sample 150] [--polynomial 6]
+                             [--splitting 0]
 """
 import argparse
 import math
@@ -31,11 +32,14 @@ parser.add_argument("--reference", type=int, default=32768, help="walks of the r
 parser.add_argument("--sample", type=int, default=150, help="unflagged points checked")
 parser.add_argument("--polynomial", type=int, default=6,
                     help="degree of the polynomial control variate (0: none)")
+parser.add_argument("--splitting", type=int, default=0,
+                    help="near-boundary splitting in every solve (1: on)")
 args = parser.parse_args()
 
 p = ct_workflow.build_pipeline(os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME),
                                polynomial=args.polynomial)
 solver = p["solver"]
+solver.NearBoundarySplitting = args.splitting
 solver.UpdatePipeline()
 first = servermanager.Fetch(solver)
 data = first.GetPointData()
@@ -67,8 +71,9 @@ for seed in range(1, args.seeds + 1):
         rows[name] = (z, n + (1 if r == 0 else 0))
         misses[name] = misses.get(name, 0) + (1 if r == 1 and abs(z[-1]) > 5.0 else 0)
 
-print("CT workflow, default solve: %d of %d points flagged; reference %d walks, %d seeds of 128"
-      % (len(flagged), first.GetNumberOfPoints(), args.reference, args.seeds))
+print("CT workflow, default solve: %d of %d points flagged; reference %d walks, %d seeds of 128;"
+      " near-boundary splitting %s" % (len(flagged), first.GetNumberOfPoints(), args.reference,
+                                       args.seeds, "on" if args.splitting else "off"))
 print("| points | z values | mean z² | largest |z| | flagged again | missed (|z| > 5, unflagged) |")
 print("|---|---:|---:|---:|---:|---:|")
 for name, (z, n) in rows.items():

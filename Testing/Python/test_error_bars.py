@@ -218,3 +218,30 @@ def test_a_constant_source_bounds_the_walks_and_clears_uneven_weights():
                     % flagged[expression]) in catcher.warning_text()
     assert flagged["-45"] == 0
     assert flagged["-45 + 0*x"] > 10, flagged
+
+
+def test_near_boundary_splitting_walks_on_only_near_the_boundary():
+    # A Poisson problem (f = 6, u = |x|^2 with its data on the sphere):
+    # walks from near the boundary take more steps with splitting (the rare
+    # deep walks, shared); without control variates, points far from it
+    # give the same numbers (with them, the walks that go on from a first
+    # ball's sphere start anew there, near the boundary, and may split).
+    near = [(0.97 * math.cos(0.3 * i), 0.97 * math.sin(0.3 * i), 0.1) for i in range(20)]
+    far = [(0.05 * i - 0.5, 0.1, 0.0) for i in range(20)]
+    results = {}
+    for split in (False, True):
+        solver = solver_for(sphere_boundary(lambda x, y, z: x * x + y * y + z * z), probe(near + far),
+                            128)
+        solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.POISSON)
+        solver.SetSourceExpression("6")
+        solver.SetNearBoundarySplitting(split)
+        solver.SetControlVariates(False)
+        assert solver.GetNearBoundarySplitting() == split
+        solver.Update()
+        out = solver.GetOutput()
+        values = out.GetPointData().GetArray("T")
+        results[split] = ([values.GetValue(i) for i in range(40)],
+                          out.GetFieldData().GetArray("MeanStepsPerWalk").GetValue(0))
+    assert results[True][0][20:] == results[False][0][20:]
+    assert results[True][0][:20] != results[False][0][:20]
+    assert results[True][1] > results[False][1]

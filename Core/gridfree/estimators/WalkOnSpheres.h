@@ -95,6 +95,19 @@ struct WalkSettings
   // either side of a Dirichlet boundary. Off: every start point is taken to
   // lie in the given domain.
   bool MixedBothSides = false;
+  // Walk on spheres from near the boundary: most walks end close by, and
+  // the few that wander deep bring back what the rest never see (sources,
+  // data far away), a heavy tail that a few hundred walks misjudge. With
+  // splitting, a walk whose ball grows to twice the largest it had (from
+  // twice its first ball, up to a tenth of the boundary's diagonal, at most
+  // 16 times and to 32 branches; for the screened equation no deeper than
+  // 1/√c) goes on as two branches of half its weight, so that nearly
+  // every walk carries a share of the deep ones (unbiased: any rule that
+  // depends on the walk so far is). Walks from start points farther than
+  // half that depth from the boundary never split (derivative walks start
+  // anew on their first ball's sphere, which touches the boundary). Not
+  // for the biharmonic equation.
+  bool NearBoundarySplitting = false;
 };
 
 enum class WalkEnd
@@ -341,8 +354,35 @@ public:
   }
 
 private:
+  static int EndRank(WalkEnd e)
+  {
+    return e == WalkEnd::MaxSteps ? 3 : (e == WalkEnd::Escaped ? 2 : (e == WalkEnd::Terminated ? 1 : 0));
+  }
+
+  // NearBoundarySplitting: branches split while their balls stay below
+  // this fraction of the boundary's diagonal, at most this many times.
+  static constexpr double kSplitCeiling = 0.1;
+  static constexpr int kMaxSplits = 16;
+  // And at most this many branches per walk: outside a closed boundary (or
+  // near a convex corner) a walk doubles its distance nearly surely, and
+  // every level would double the branches.
+  static constexpr int kMaxBranches = 32;
+
+  // A walk's branch (NearBoundarySplitting): where it is, its weight, the
+  // ball radius at which it splits next and how many splits it has left,
+  // its own steps and closest-point hint.
+  struct Branch
+  {
+    Vec<DIM> X;
+    double Weight;
+    double NextSplit;
+    int SplitsLeft;
+    int Steps;
+    typename Boundary<DIM>::StepHint Hint;
+  };
+
   template <class Policy>
-  WalkEnd WalkWith(Vec<DIM> x, double escapeRadius, RandomStream& rng, double* sample,
+  WalkEnd WalkWith(Vec<DIM> x0, double escapeRadius, RandomStream& rng, double* sample,
     int& steps, std::uint64_t& returns, const Policy& equation)
   {
     const WalkSettings& s = this->Settings;
@@ -351,159 +391,211 @@ private:
     const double farRadius = s.FarRadiusFactor * this->Radius;
     const double escape2 = escapeRadius * escapeRadius;
     std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
-    double weight = 1.0;
     this->FirstWeight = 1.0;
+    this->EndWeight = 0.0;
     double ballIntegrals = 0.0; // tree walking: Σ_k ∫_{B_k} G = Σ_k R_k²/(2n)
     WalkEnd end = WalkEnd::Boundary;
-    bool hasBoundaryValue = true;
-    typename Boundary<DIM>::StepHint hint; // this walk's own: results never depend on threads
-    for (steps = 0;; ++steps)
+    // (Screened: no deeper than the screening length 1/√c, beyond which what
+    // deep branches bring back is damped by e^{−√c·depth}.)
+    const double splitCeiling = !biharmonic && s.NearBoundarySplitting
+      ? std::min(kSplitCeiling * this->Geometry.Diagonal(),
+          1.0 / std::sqrt(std::max(equation.ScreeningCoefficient(), 1e-300)))
+      : 0.0;
+    steps = 0;
+    // This walk's branches still to walk (the first, then those split off);
+    // each walks on the same random stream in turn, so that the walk's
+    // numbers do not depend on threads.
+    this->Pending.clear();
+    this->Pending.push_back(Branch{ x0, 1.0, 0.0, kMaxSplits, 0, {} });
+    int branches = 1;
+    while (!this->Pending.empty())
     {
-      const double fromCenter2 = (x - this->Center).squaredNorm();
-      if (exterior && fromCenter2 > farRadius * farRadius)
+      Branch branch = this->Pending.back();
+      this->Pending.pop_back();
+      Vec<DIM> x = branch.X;
+      double weight = branch.Weight;
+      bool hasBoundaryValue = true;
+      WalkEnd branchEnd = WalkEnd::Boundary;
+      auto& hint = branch.Hint; // the branch's own: results never depend on threads
+      for (;; ++branch.Steps, ++steps)
       {
-        if (steps >= s.MaxSteps)
+        const double fromCenter2 = (x - this->Center).squaredNorm();
+        if (exterior && fromCenter2 > farRadius * farRadius)
         {
-          end = WalkEnd::MaxSteps;
-          break;
-        }
-        const double r = std::sqrt(fromCenter2);
-        if (s.Exterior == ExteriorStrategy::ExactReturn)
-        {
-          if (rng.NextDouble() >= ReturnProbability<DIM>(r, this->Radius))
+          if (branch.Steps >= s.MaxSteps)
           {
-            end = WalkEnd::Escaped;
+            branchEnd = WalkEnd::MaxSteps;
+            break;
+          }
+          const double r = std::sqrt(fromCenter2);
+          if (s.Exterior == ExteriorStrategy::ExactReturn)
+          {
+            if (rng.NextDouble() >= ReturnProbability<DIM>(r, this->Radius))
+            {
+              branchEnd = WalkEnd::Escaped;
+              hasBoundaryValue = false;
+              break;
+            }
+            x = SampleExteriorReturn<DIM>(x, this->Center, this->Radius, rng);
+            ++returns;
+            continue;
+          }
+          // Textbook roulette: survive with probability ρ_far/r, reweight.
+          const double survive = farRadius / r;
+          if (rng.NextDouble() >= survive)
+          {
+            branchEnd = WalkEnd::Escaped;
             hasBoundaryValue = false;
             break;
           }
-          x = SampleExteriorReturn<DIM>(x, this->Center, this->Radius, rng);
-          ++returns;
-          continue;
+          weight /= survive;
         }
-        // Textbook roulette: survive with probability ρ_far/r, reweight.
-        const double survive = farRadius / r;
-        if (rng.NextDouble() >= survive)
+        else if (!exterior &&
+          (fromCenter2 > escape2 || fromCenter2 == std::numeric_limits<double>::infinity()))
         {
-          end = WalkEnd::Escaped;
+          // (An infinite squared distance, beyond ~1e154, is past any far
+          // sphere even when the squared escape radius overflowed as well.)
+          branchEnd = WalkEnd::Escaped;
           hasBoundaryValue = false;
           break;
         }
-        weight /= survive;
-      }
-      else if (!exterior &&
-        (fromCenter2 > escape2 || fromCenter2 == std::numeric_limits<double>::infinity()))
-      {
-        // (An infinite squared distance, beyond ~1e154, is past any far
-        // sphere even when the squared escape radius overflowed as well.)
-        end = WalkEnd::Escaped;
-        hasBoundaryValue = false;
-        break;
-      }
 
-      Vec<DIM> direction;
-      bool guided = false;
-      // Biharmonic walks keep the largest balls: tree walking's Σ R_k² is an
-      // exit time with a long tail, and smaller balls (more, smaller terms)
-      // made it heavier than a 512-walk sample variance can judge at 5σ.
-      const double radius =
-        biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon, &hint);
-      // A NaN radius (a position that overflowed) ends the walk too: its
-      // closest point is none, so the sample is NaN and visible.
-      if (!(radius >= s.Epsilon))
-      {
-        break;
-      }
-      if (steps >= s.MaxSteps)
-      {
-        end = WalkEnd::MaxSteps;
-        break;
-      }
-
-      if (this->Sources.Active() || biharmonic || Policy::WeightsSteps)
-      {
-        const auto green = equation.Green(radius);
-        if (this->Sources.Active())
+        Vec<DIM> direction;
+        bool guided = false;
+        // Biharmonic walks keep the largest balls: tree walking's Σ R_k² is an
+        // exit time with a long tail, and smaller balls (more, smaller terms)
+        // made it heavier than a 512-walk sample variance can judge at 5σ.
+        const double radius =
+          biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon, &hint);
+        // A NaN radius (a position that overflowed) ends the walk too: its
+        // closest point is none, so the sample is NaN and visible.
+        if (!(radius >= s.Epsilon))
         {
-          // −∫_B f G (FORMULAS.md §2: the source enters with a minus sign).
-          std::fill(this->InnerValue.begin(), this->InnerValue.end(), 0.0);
-          this->Sources.Accumulate(x, green, rng, this->InnerValue.data());
-          for (int c = 0; c < this->SolutionComponents; ++c)
-          {
-            this->Accumulated[c] -= weight * this->InnerValue[c];
-          }
+          break;
         }
-        if constexpr (biharmonic)
+        if (branch.Steps >= s.MaxSteps)
         {
-          if (s.Biharmonic == BiharmonicStrategy::TreeWalking)
+          branchEnd = WalkEnd::MaxSteps;
+          break;
+        }
+        if (steps == 0)
+        {
+          // Splitting starts at twice the first ball, if that is below the
+          // ceiling: points farther from the boundary walk as without it.
+          branch.NextSplit = 2.0 * radius <= splitCeiling ? 2.0 * radius
+                                                          : std::numeric_limits<double>::infinity();
+        }
+        while (radius >= branch.NextSplit && branch.SplitsLeft > 0 && branches < kMaxBranches)
+        {
+          ++branches;
+          // A branch that reaches a ball twice as large as it ever had
+          // (from near the boundary, a rare way deep) goes on as two, each
+          // with half its weight (NearBoundarySplitting).
+          weight *= 0.5;
+          branch.NextSplit = 2.0 * branch.NextSplit <= splitCeiling
+            ? 2.0 * branch.NextSplit
+            : std::numeric_limits<double>::infinity();
+          --branch.SplitsLeft;
+          this->Pending.push_back(
+            Branch{ x, weight, branch.NextSplit, branch.SplitsLeft, branch.Steps, hint });
+        }
+
+        if (this->Sources.Active() || biharmonic || Policy::WeightsSteps)
+        {
+          const auto green = equation.Green(radius);
+          if (this->Sources.Active())
           {
-            ballIntegrals += green.Integral();
+            // −∫_B f G (FORMULAS.md §2: the source enters with a minus sign).
+            std::fill(this->InnerValue.begin(), this->InnerValue.end(), 0.0);
+            this->Sources.Accumulate(x, green, rng, this->InnerValue.data());
+            for (int c = 0; c < this->SolutionComponents; ++c)
+            {
+              this->Accumulated[c] -= weight * this->InnerValue[c];
+            }
+          }
+          if constexpr (biharmonic)
+          {
+            if (s.Biharmonic == BiharmonicStrategy::TreeWalking)
+            {
+              ballIntegrals += green.Integral();
+            }
+            else
+            {
+              this->AddNestedStep(x, green, rng, steps);
+            }
+          }
+          const double boundaryWeight = green.BoundaryWeight();
+          if (Policy::WeightsSteps && fromCenter2 > farRadius * farRadius)
+          {
+            // Far from everything: Russian roulette with survival probability
+            // C instead of the weight C (unbiased, and the walk ends soon since
+            // C = z/sinh z falls fast as balls grow).
+            if (rng.NextDouble() >= boundaryWeight)
+            {
+              branchEnd = WalkEnd::Terminated;
+              hasBoundaryValue = false;
+              break;
+            }
+            if (this->Sources.Active())
+            {
+              // The survivor keeps its weight after gathering the source:
+              // what it gathers is then no longer bounded by the weight's
+              // decay, which the error-bar rule's bounds assume (Problem.h,
+              // SteadyRange). Counted as a return, which turns them off.
+              ++returns;
+            }
+          }
+          else if (this->Guide && this->Guide->Guides(boundaryWeight))
+          {
+            // A guided step (ScreenedGuide.h): its factor varies with the
+            // landing point and stays below C/(1 − α).
+            double factor = boundaryWeight;
+            direction = this->Guide->Step(x, radius, green, rng, factor);
+            guided = true;
+            weight *= factor;
+            if (steps == 0)
+            {
+              this->FirstWeight = ScreenedGuide<DIM>::LargestFactor(boundaryWeight);
+            }
           }
           else
           {
-            this->AddNestedStep(x, green, rng, steps);
+            weight *= boundaryWeight;
+            if (steps == 0)
+            {
+              this->FirstWeight = boundaryWeight;
+            }
           }
         }
-        const double boundaryWeight = green.BoundaryWeight();
-        if (Policy::WeightsSteps && fromCenter2 > farRadius * farRadius)
-        {
-          // Far from everything: Russian roulette with survival probability
-          // C instead of the weight C (unbiased, and the walk ends soon since
-          // C = z/sinh z falls fast as balls grow).
-          if (rng.NextDouble() >= boundaryWeight)
-          {
-            end = WalkEnd::Terminated;
-            hasBoundaryValue = false;
-            break;
-          }
-          if (this->Sources.Active())
-          {
-            // The survivor keeps its weight after gathering the source:
-            // what it gathers is then no longer bounded by the weight's
-            // decay, which the error-bar rule's bounds assume (Problem.h,
-            // SteadyRange). Counted as a return, which turns them off.
-            ++returns;
-          }
-        }
-        else if (this->Guide && this->Guide->Guides(boundaryWeight))
-        {
-          // A guided step (ScreenedGuide.h): its factor varies with the
-          // landing point and stays below C/(1 − α).
-          double factor = boundaryWeight;
-          direction = this->Guide->Step(x, radius, green, rng, factor);
-          guided = true;
-          weight *= factor;
-          if (steps == 0)
-          {
-            this->FirstWeight = ScreenedGuide<DIM>::LargestFactor(boundaryWeight);
-          }
-        }
-        else
-        {
-          weight *= boundaryWeight;
-          if (steps == 0)
-          {
-            this->FirstWeight = boundaryWeight;
-          }
-        }
+
+        x += radius * (guided ? direction : SampleUnitSphere<DIM>(rng));
       }
 
-      x += radius * (guided ? direction : SampleUnitSphere<DIM>(rng));
+      // The walk's end for the counters: truncated if a branch was, else
+      // escaped if one escaped, else ended by roulette if one was.
+      end = std::max(end, branchEnd, [](WalkEnd a, WalkEnd b) { return EndRank(a) < EndRank(b); });
+      const int nc = this->SolutionComponents;
+      if (hasBoundaryValue)
+      {
+        this->Geometry.Evaluate(
+          x, this->Geometry.ClosestPoint(x, hint), this->BoundaryValue.data());
+        for (int c = 0; c < nc; ++c)
+        {
+          this->Accumulated[c] += weight * this->BoundaryValue[c];
+        }
+        this->EndWeight += weight;
+      }
+      else
+      {
+        std::fill(this->BoundaryValue.begin(), this->BoundaryValue.end(), 0.0);
+      }
     }
 
     const int nc = this->SolutionComponents;
-    if (hasBoundaryValue)
-    {
-      this->Geometry.Evaluate(x, this->Geometry.ClosestPoint(x, hint), this->BoundaryValue.data());
-    }
-    else
-    {
-      std::fill(this->BoundaryValue.begin(), this->BoundaryValue.end(), 0.0);
-    }
     for (int c = 0; c < nc; ++c)
     {
-      sample[c] = this->Accumulated[c] + weight * this->BoundaryValue[c];
+      sample[c] = this->Accumulated[c];
     }
-    this->EndWeight = hasBoundaryValue ? weight : 0.0;
     if constexpr (biharmonic)
     {
       Policy::Finish(sample, this->BoundaryValue.data(), ballIntegrals, nc);
@@ -607,6 +699,7 @@ private:
   std::vector<double> InnerValue;
   std::vector<double> Accumulated;
   std::vector<double> Sample;
+  std::vector<Branch> Pending;
 };
 } // namespace gridfree
 

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdio>
 
 using namespace gridfree;
 using namespace gridfree::testing;
@@ -176,6 +177,60 @@ TEST(PoissonWalkOnSpheres3D, CheckRejectsTheWrongSign)
     Settings<3>(Equation::Poisson, SourceSampling::GreensFunction), points, { u }, 128, 5,
     &wrong)[0];
   EXPECT_GT(c.MaxAbsZ, 5.0);
+}
+
+// Near the boundary (points 10⁻³ from a unit sphere; ε 10⁻⁶, so that the
+// ε-shell's bias, 2ε, stays far below the error bars), most
+// walks end at once and the rare one that wanders deep brings back the
+// source's integral, of order 1 against the value's change of 2·10⁻³ over
+// the first ball: at 512 walks most points see none, and their error bars
+// are far too small. Near-boundary splitting (WalkSettings) makes nearly
+// every walk carry a share of the deep ones: calibrated (at 128 walks its
+// mean z² is still 1.7–1.9: the number of branches that go deep varies
+// from walk to walk). Points farther than a twentieth of the diagonal walk
+// as without it, bit for bit.
+TEST(PoissonWalkOnSpheres3D, NearBoundarySplittingCarriesTheRareDeepWalks)
+{
+  const Field<3> u = [](const Vec3& x) { return x.squaredNorm(); };
+  // g = |z|² at the closest point itself (not interpolated from the
+  // vertices, whose error would dwarf these points' error bars).
+  const SimplexMesh<3> mesh = MakeIcosphere(3);
+  Boundary<3> boundary;
+  boundary.SetMesh(mesh.Vertices,
+    std::vector<std::array<std::int64_t, 3>>(mesh.Simplices.begin(), mesh.Simplices.end()),
+    std::make_shared<CallableBoundaryValues<3>>(
+      [u](const Vec3& z, std::int64_t, double* out) { out[0] = u(z); }, 1));
+  FunctionSource<3> f([](const Vec3&) { return 6.0; });
+  std::vector<Vec3> near;
+  for (const Vec3& p : RandomPointsInBall<3>(60, 0.9, 61))
+  {
+    // Outwards along the ray through p until the mesh lies 10⁻³ away.
+    const Vec3 d = p.normalized();
+    double t = 0.9;
+    while (boundary.Distance((t + 1e-5) * d) > 1e-3)
+    {
+      t += 1e-5;
+    }
+    near.push_back(t * d);
+  }
+  WalkSettings settings = Settings<3>(Equation::Poisson, SourceSampling::GreensFunction);
+  settings.Epsilon = 1e-6;
+  const Calibration plain = CheckEstimator<3>(boundary, settings, near, { u }, 512, 62, &f)[0];
+  settings.NearBoundarySplitting = true;
+  const Calibration split = CheckEstimator<3>(boundary, settings, near, { u }, 512, 62, &f)[0];
+  std::printf("10^-3 from the sphere: mean z² %.2f (max |z| %.1f) plain, %.2f (%.1f) split; "
+              "steps per walk %.1f, %.1f\n",
+    plain.MeanZ2, plain.MaxAbsZ, split.MeanZ2, split.MaxAbsZ, plain.MeanSteps, split.MeanSteps);
+  EXPECT_GT(plain.MeanZ2, 2.0);
+  ExpectCalibrated(split, 60);
+
+  const auto far = RandomPointsInBall<3>(20, 0.3, 63);
+  settings.NearBoundarySplitting = false;
+  const Calibration farPlain = CheckEstimator<3>(boundary, settings, far, { u }, 64, 64, &f)[0];
+  settings.NearBoundarySplitting = true;
+  const Calibration farSplit = CheckEstimator<3>(boundary, settings, far, { u }, 64, 64, &f)[0];
+  EXPECT_EQ(farPlain.MeanZ2, farSplit.MeanZ2);
+  EXPECT_EQ(farPlain.MeanSteps, farSplit.MeanSteps);
 }
 
 namespace
