@@ -584,9 +584,12 @@ public:
    * ball's sphere, for derivatives and the control variates, start anew
    * there and may split), those near it cost more walk steps (on
    * the CT workflow's default solve 1.5 times the time). Off by default:
-   * outside a closed boundary nearly every walk splits to the cap, and
-   * with very few walks (32) on data that jump the intermediate values of
-   * split walks hide the "all walks agree" sign of the error-bar rule.
+   * the cap on the branches (without it, walks from points just outside a
+   * closed boundary grew so many that an abort waited on one walk) leaves
+   * the CT workflow's first solve flagging about ten points whose error
+   * bars are right, and with very few walks (32) on data that jump the
+   * intermediate values of split walks hide the "all walks agree" sign of
+   * the error-bar rule.
    * Walk on spheres (Dirichlet conditions), not the biharmonic equation.
    */
   virtual void SetNearBoundarySplitting(bool value);
