@@ -249,9 +249,12 @@ struct ProblemBuilder::Internals
     AppendString(in.Expression, key);
     AppendDouble(walk.Epsilon, key);
     AppendDouble(walk.ScreeningCoefficient, key);
+    // Every walk setting is in it: the kept shifted problem (the
+    // polynomial control variate) walks with the settings it was made with.
     for (int v : { walk.MaxSteps, static_cast<int>(walk.Problem), static_cast<int>(walk.Sampling),
            static_cast<int>(walk.Screening), static_cast<int>(s.SourceOperator), s.Seed,
-           s.PolynomialControlVariate })
+           s.PolynomialControlVariate, static_cast<int>(walk.Biharmonic), walk.NestedWalks,
+           static_cast<int>(walk.NearBoundarySplitting), static_cast<int>(walk.MixedBothSides) })
     {
       key.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
     }

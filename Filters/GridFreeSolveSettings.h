@@ -114,7 +114,10 @@ struct SolveSettings
   bool ComputeGradient = false;
   bool ComputeHessian = false;
   bool ControlVariates = true;
-  // Walks from near the boundary split as they go deep (WalkSettings).
+  // Walks from near the boundary split as they go deep (WalkSettings): off
+  // here, on in the solver, the stream tracer and the adaptive sampler,
+  // which set it in their constructors (the application filters have no
+  // such property and keep their cost).
   bool NearBoundarySplitting = false;
   bool AntitheticPairs = false;
   bool ComputeDirectionalDerivative = false;

@@ -53,6 +53,10 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
   this->SetNumberOfOutputPorts(1);
   // ParaView's progress bar shows it (instead of the class name).
   this->SetProgressText("Walk On Spheres Solver");
+  // Near the boundary the plain walks' rare deep ones make error bars too
+  // small (SetNearBoundarySplitting); the application filters, which have
+  // no such property, keep SolveSettings' default, off.
+  this->GetSettings().NearBoundarySplitting = true;
 }
 
 //------------------------------------------------------------------------------

@@ -571,7 +571,7 @@ public:
 
   ///@{
   /**
-   * Near-boundary splitting (default off). From a point near the boundary
+   * Near-boundary splitting (default on). From a point near the boundary
    * most walks end close by, and the rare one that wanders deep brings back
    * what the others never see (the source's integral, data far away): a
    * heavy tail that a few hundred walks misjudge, with error bars too small.
@@ -581,15 +581,11 @@ public:
    * branches per walk), so that nearly every walk carries a share of the
    * deep ones. Unbiased; walks from points farther than half that depth
    * from the boundary walk as without it (those that go on from a first
-   * ball's sphere, for derivatives and the control variates, start anew
-   * there and may split), those near it cost more walk steps (on
-   * the CT workflow's default solve 1.5 times the time). Off by default:
-   * the cap on the branches (without it, walks from points just outside a
-   * closed boundary grew so many that an abort waited on one walk) leaves
-   * the CT workflow's first solve flagging about ten points whose error
-   * bars are right, and with very few walks (32) on data that jump the
-   * intermediate values of split walks hide the "all walks agree" sign of
-   * the error-bar rule.
+   * ball's sphere, for derivatives and the control variates, split only
+   * beyond twice that ball), those near it cost more walk steps (on the CT
+   * workflow's default solve 1.3 times the time; it then flags 1 point
+   * of 4,096 instead of 9 whose error bars were wrong). Off: the plain
+   * walks (the core's WalkSettings default).
    * Walk on spheres (Dirichlet conditions), not the biharmonic equation.
    */
   virtual void SetNearBoundarySplitting(bool value);

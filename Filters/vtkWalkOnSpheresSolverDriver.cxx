@@ -36,6 +36,8 @@ vtkWalkOnSpheresSolverDriver::vtkWalkOnSpheresSolverDriver()
   this->SetNumberOfOutputPorts(1);
   // Lines and samples need the gradient.
   this->GetSettings().ComputeGradient = true;
+  // As the solver (vtkWalkOnSpheresSolver::SetNearBoundarySplitting).
+  this->GetSettings().NearBoundarySplitting = true;
 }
 
 vtkWalkOnSpheresSolverDriver::~vtkWalkOnSpheresSolverDriver()

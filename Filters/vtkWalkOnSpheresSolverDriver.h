@@ -165,7 +165,7 @@ public:
   ///@{
   /**
    * Walks from near the boundary split in two as they go deep (default
-   * off; vtkWalkOnSpheresSolver::SetNearBoundarySplitting).
+   * on; vtkWalkOnSpheresSolver::SetNearBoundarySplitting).
    */
   void SetNearBoundarySplitting(bool on);
   bool GetNearBoundarySplitting();

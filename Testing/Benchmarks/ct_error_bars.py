@@ -7,7 +7,8 @@ The points flagged by the default solve, and a sample of unflagged ones,
 are solved again with --reference walks (the reference) and with 128 walks
 for each of --seeds seeds; z = (T − reference) / sqrt(var + reference var).
 Prints, for both sets, the number of z values, their mean z², the largest
-|z| and how often the 128-walk solves flagged them.
+|z| and how often the 128-walk solves flagged them, then each miss (an
+unflagged |z| > 5): its point, distance from the skin, seed and numbers.
 
     pvbatch ct_error_bars.py [--seeds 10] [--reference 32768] [--sample 150] [--polynomial 6]
                              [--splitting 0]
@@ -62,6 +63,7 @@ def solve(walks, seed):
 reference = solve(args.reference, 99)
 rows = {"flagged by the default solve": ([], 0), "a sample of the unflagged": ([], 0)}
 misses = {}
+missed = []  # (point, seed, z, T, reference, its standard error, the reference's)
 for seed in range(1, args.seeds + 1):
     for k, (t, v, r) in enumerate(solve(128, seed)):
         name = "flagged by the default solve" if k < len(flagged) else "a sample of the unflagged"
@@ -70,6 +72,8 @@ for seed in range(1, args.seeds + 1):
         z.append((t - ref) / math.sqrt(v + ref_var) if v + ref_var > 0.0 else 0.0)
         rows[name] = (z, n + (1 if r == 0 else 0))
         misses[name] = misses.get(name, 0) + (1 if r == 1 and abs(z[-1]) > 5.0 else 0)
+        if r == 1 and abs(z[-1]) > 5.0:
+            missed.append((ids[k], seed, z[-1], t, ref, math.sqrt(v), math.sqrt(ref_var)))
 
 print("CT workflow, default solve: %d of %d points flagged; reference %d walks, %d seeds of 128;"
       " near-boundary splitting %s" % (len(flagged), first.GetNumberOfPoints(), args.reference,
@@ -80,3 +84,7 @@ for name, (z, n) in rows.items():
     print("| %s | %d | %.2f | %.2f | %d | %d |" % (
         name, len(z), math.fsum(x * x for x in z) / len(z), max(abs(x) for x in z), n,
         misses.get(name, 0)))
+distance = first.GetPointData().GetArray("BoundaryDistance")
+for (i, seed, z, t, ref, se, ref_se) in missed:
+    print("missed: point %d (%.2f from the skin), seed %d: z %.2f, T %.4f ± %.4f, reference %.4f ± %.4f"
+          % (i, distance.GetValue(i) if distance else float("nan"), seed, z, t, se, ref, ref_se))

@@ -223,25 +223,29 @@ def test_a_constant_source_bounds_the_walks_and_clears_uneven_weights():
 def test_near_boundary_splitting_walks_on_only_near_the_boundary():
     # A Poisson problem (f = 6, u = |x|^2 with its data on the sphere):
     # walks from near the boundary take more steps with splitting (the rare
-    # deep walks, shared); without control variates, points far from it
-    # give the same numbers (with them, the walks that go on from a first
-    # ball's sphere start anew there, near the boundary, and may split).
+    # deep walks, shared); points far from it give the same numbers, with
+    # control variates too (their walks start anew on the first ball's
+    # sphere, near the boundary, but split only beyond twice its radius).
+    # Toggled on one solver, the setting takes effect at once, with the
+    # polynomial control variate too (whose shifted problem is kept).
     near = [(0.97 * math.cos(0.3 * i), 0.97 * math.sin(0.3 * i), 0.1) for i in range(20)]
     far = [(0.05 * i - 0.5, 0.1, 0.0) for i in range(20)]
-    results = {}
-    for split in (False, True):
-        solver = solver_for(sphere_boundary(lambda x, y, z: x * x + y * y + z * z), probe(near + far),
-                            128)
+    for polynomial in (0, 2):
+        solver = solver_for(sphere_boundary(lambda x, y, z: x * x + y * y + z * z),
+                            probe(near + far), 128)
         solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.POISSON)
-        solver.SetSourceExpression("6")
-        solver.SetNearBoundarySplitting(split)
-        solver.SetControlVariates(False)
-        assert solver.GetNearBoundarySplitting() == split
-        solver.Update()
-        out = solver.GetOutput()
-        values = out.GetPointData().GetArray("T")
-        results[split] = ([values.GetValue(i) for i in range(40)],
-                          out.GetFieldData().GetArray("MeanStepsPerWalk").GetValue(0))
-    assert results[True][0][20:] == results[False][0][20:]
-    assert results[True][0][:20] != results[False][0][:20]
-    assert results[True][1] > results[False][1]
+        solver.SetSourceExpression("6 + 0.5 * x")
+        solver.SetPolynomialControlVariate(polynomial)
+        solver.SetComputeGradient(polynomial == 0)
+        results = {}
+        for split in (False, True):
+            solver.SetNearBoundarySplitting(split)
+            assert solver.GetNearBoundarySplitting() == split
+            solver.Update()
+            out = solver.GetOutput()
+            values = out.GetPointData().GetArray("T")
+            results[split] = ([values.GetValue(i) for i in range(40)],
+                              out.GetFieldData().GetArray("MeanStepsPerWalk").GetValue(0))
+        assert results[True][0][20:] == results[False][0][20:], polynomial
+        assert results[True][0][:20] != results[False][0][:20], polynomial
+        assert results[True][1] > results[False][1], polynomial

@@ -165,9 +165,9 @@ public:
   void StartFrom(const Vec<DIM>&) {}
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
   WalkEnd Walk(const Vec<DIM>& x, double escapeRadius, RandomStream& rng, double* sample,
-    int& steps, std::uint64_t& returns)
+    int& steps, std::uint64_t& returns, double splitScale = 0.0)
   {
-    return this->Walker.Walk(x, escapeRadius, rng, sample, steps, returns);
+    return this->Walker.Walk(x, escapeRadius, rng, sample, steps, returns, splitScale);
   }
   double LastWeight() const { return this->Walker.LastWeight(); }
   double FirstStepWeight() const { return this->Walker.FirstStepWeight(); }
@@ -491,7 +491,8 @@ private:
           const Vec<DIM> nu = side == 0 ? firstNu : Vec<DIM>(-firstNu);
           int steps = 0;
           const WalkEnd tailEnd = this->Walker.Walk(
-            centre + radius * nu, escapeRadius, rng, this->Tail.data(), steps, counters.Returns);
+            centre + radius * nu, escapeRadius, rng, this->Tail.data(), steps, counters.Returns,
+            radius);
           totalSteps += steps + 1;
           if (status == DerivativeStatus::Interior)
           {

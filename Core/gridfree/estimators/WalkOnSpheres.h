@@ -105,8 +105,10 @@ struct WalkSettings
   // every walk carries a share of the deep ones (unbiased: any rule that
   // depends on the walk so far is). Walks from start points farther than
   // half that depth from the boundary never split (derivative walks start
-  // anew on their first ball's sphere, which touches the boundary). Not
-  // for the biharmonic equation.
+  // anew on their first ball's sphere, which touches the boundary, and
+  // split only beyond twice its radius: Walk's splitScale). Not for the
+  // biharmonic equation. Off here (the plain walks); the VTK solver, stream
+  // tracer and adaptive sampler turn it on by default.
   bool NearBoundarySplitting = false;
 };
 
@@ -298,20 +300,25 @@ public:
 
   // One walk from x0; writes OutputComponents() numbers into sample.
   // The walk is compiled once per equation policy (EquationPolicies.h).
+  // `splitScale` (NearBoundarySplitting): splitting starts at twice the
+  // larger of it and the walk's first ball. A walk that restarts on a
+  // point's first sphere (derivatives, control variates) passes that
+  // sphere's radius: the sphere may touch the boundary, but the rare way
+  // deep is rare only on the point's own scale.
   WalkEnd Walk(const Vec<DIM>& x0, double escapeRadius, RandomStream& rng, double* sample,
-    int& steps, std::uint64_t& returns)
+    int& steps, std::uint64_t& returns, double splitScale = 0.0)
   {
     switch (this->Settings.Problem)
     {
       case Equation::ScreenedPoisson:
-        return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns,
+        return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns, splitScale,
           equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
       case Equation::Biharmonic:
-        return this->WalkWith(
-          x0, escapeRadius, rng, sample, steps, returns, equations::Biharmonic<DIM>{});
+        return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns, splitScale,
+          equations::Biharmonic<DIM>{});
       default:
-        return this->WalkWith(
-          x0, escapeRadius, rng, sample, steps, returns, equations::Harmonic<DIM>{});
+        return this->WalkWith(x0, escapeRadius, rng, sample, steps, returns, splitScale,
+          equations::Harmonic<DIM>{});
     }
   }
 
@@ -383,7 +390,7 @@ private:
 
   template <class Policy>
   WalkEnd WalkWith(Vec<DIM> x0, double escapeRadius, RandomStream& rng, double* sample,
-    int& steps, std::uint64_t& returns, const Policy& equation)
+    int& steps, std::uint64_t& returns, double splitScale, const Policy& equation)
   {
     const WalkSettings& s = this->Settings;
     constexpr bool biharmonic = Policy::IsBiharmonic;
@@ -480,10 +487,12 @@ private:
         }
         if (steps == 0)
         {
-          // Splitting starts at twice the first ball, if that is below the
-          // ceiling: points farther from the boundary walk as without it.
-          branch.NextSplit = 2.0 * radius <= splitCeiling ? 2.0 * radius
-                                                          : std::numeric_limits<double>::infinity();
+          // Splitting starts at twice the first ball (or the scale given),
+          // if that is below the ceiling: points farther from the boundary
+          // walk as without it.
+          const double start = 2.0 * std::max(radius, splitScale);
+          branch.NextSplit =
+            start <= splitCeiling ? start : std::numeric_limits<double>::infinity();
         }
         while (radius >= branch.NextSplit && branch.SplitsLeft > 0 && branches < kMaxBranches)
         {
