@@ -576,7 +576,7 @@ public:
    * what the others never see (the source's integral, data far away): a
    * heavy tail that a few hundred walks misjudge, with error bars too small.
    * With splitting, a walk whose ball grows to twice the largest it had
-   * goes on as two walks of half its weight (up to a tenth of the
+   * goes on as two walks of half its weight (up to a quarter of the
    * boundary's diagonal, or the screening length 1/√c; at most 32
    * branches per walk), so that nearly every walk carries a share of the
    * deep ones. Unbiased; walks from points farther than half that depth

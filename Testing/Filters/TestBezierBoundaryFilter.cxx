@@ -211,6 +211,7 @@ struct FilterRun
   int Equation = 0;
   int Biharmonic = 0;
   int NestedWalks = 0;
+  bool NearBoundarySplitting = false;
   std::uint64_t Seed = 0;
   int Walks = 0;
 
@@ -244,6 +245,7 @@ FilterRun RunFilter(vtkPolyData* boundary, vtkPolyData* probe,
   run.Equation = solver->GetEquation();
   run.Biharmonic = solver->GetBiharmonicStrategy();
   run.NestedWalks = solver->GetNestedWalks();
+  run.NearBoundarySplitting = solver->GetNearBoundarySplitting();
   run.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(solver->GetSeed()));
   run.Walks = solver->GetWalksPerPoint();
   return run;
@@ -261,6 +263,7 @@ void RunCore(const gridfree::Boundary<2>& boundary, const FilterRun& filter, vtk
   settings.Problem = static_cast<gridfree::Equation>(filter.Equation);
   settings.Biharmonic = static_cast<gridfree::BiharmonicStrategy>(filter.Biharmonic);
   settings.NestedWalks = filter.NestedWalks;
+  settings.NearBoundarySplitting = filter.NearBoundarySplitting;
   gridfree::WalkOnSpheresEstimator<2> estimator(boundary, settings);
   ASSERT_EQ(estimator.OutputComponents(), components);
   for (vtkIdType i = 0; i < probe->GetNumberOfPoints(); ++i)
