@@ -583,7 +583,7 @@ public:
    * from the boundary walk as without it (those that go on from a first
    * ball's sphere, for derivatives and the control variates, split only
    * beyond twice that ball), those near it cost more walk steps (on the CT
-   * workflow's default solve 1.3 times the time; it then flags 1 point
+   * workflow's default solve 1.2 times the time; it then flags 1 point
    * of 4,096 instead of 9 whose error bars were wrong). Off: the plain
    * walks (the core's WalkSettings default).
    * Walk on spheres (Dirichlet conditions), not the biharmonic equation.
