@@ -11,7 +11,7 @@ Prints, for both sets, the number of z values, their mean z², the largest
 unflagged |z| > 5): its point, distance from the skin, seed and numbers.
 
     pvbatch ct_error_bars.py [--seeds 10] [--reference 32768] [--sample 150] [--polynomial 6]
-                             [--splitting 0]
+                             [--splitting 0|1] [--sampling "Green's Function"]
 """
 import argparse
 import math
@@ -33,19 +33,29 @@ parser.add_argument("--reference", type=int, default=32768, help="walks of the r
 parser.add_argument("--sample", type=int, default=150, help="unflagged points checked")
 parser.add_argument("--polynomial", type=int, default=6,
                     help="degree of the polynomial control variate (0: none)")
-parser.add_argument("--splitting", type=int, default=0,
-                    help="near-boundary splitting in every solve (1: on)")
+parser.add_argument("--splitting", type=int, default=-1,
+                    help="near-boundary splitting in every solve (0: off, 1: on; "
+                         "default: the solver's default, on)")
+parser.add_argument("--sampling", default="",
+                    help="Source Sampling in every solve, e.g. \"Green's Function\" "
+                         "(default: the solver's default, Automatic)")
 args = parser.parse_args()
 
 p = ct_workflow.build_pipeline(os.path.join(ct_workflow.data_folder(), ct_workflow.VOLUME_NAME),
                                polynomial=args.polynomial)
 solver = p["solver"]
-solver.NearBoundarySplitting = args.splitting
+if args.splitting >= 0:
+    solver.NearBoundarySplitting = args.splitting
+if args.sampling:
+    solver.SourceSampling = args.sampling
 solver.UpdatePipeline()
 first = servermanager.Fetch(solver)
 data = first.GetPointData()
 reliable = data.GetArray("T_VarianceReliable")
 values = data.GetArray("T")
+used = first.GetFieldData().GetArray("SourceSamplingUsed")
+sampling = {1: "Green's Function", 3: "Source Density"}.get(
+    int(used.GetTuple1(0)) if used else 0, "other")
 flagged = [i for i in range(first.GetNumberOfPoints()) if reliable.GetValue(i) == 0]
 unflagged = [i for i in range(first.GetNumberOfPoints())
              if reliable.GetValue(i) == 1 and not math.isnan(values.GetValue(i))]
@@ -76,11 +86,15 @@ for seed in range(1, args.seeds + 1):
             missed.append((ids[k], seed, z[-1], t, ref, math.sqrt(v), math.sqrt(ref_var)))
 
 print("CT workflow, default solve: %d of %d points flagged; reference %d walks, %d seeds of 128;"
-      " near-boundary splitting %s" % (len(flagged), first.GetNumberOfPoints(), args.reference,
-                                       args.seeds, "on" if args.splitting else "off"))
+      " near-boundary splitting %s; source sampling %s" % (
+          len(flagged), first.GetNumberOfPoints(), args.reference, args.seeds,
+          "on" if solver.NearBoundarySplitting else "off", sampling))
 print("| points | z values | mean z² | largest |z| | flagged again | missed (|z| > 5, unflagged) |")
 print("|---|---:|---:|---:|---:|---:|")
 for name, (z, n) in rows.items():
+    if not z:
+        print("| %s | 0 | — | — | — | — |" % name)
+        continue
     print("| %s | %d | %.2f | %.2f | %d | %d |" % (
         name, len(z), math.fsum(x * x for x in z) / len(z), max(abs(x) for x in z), n,
         misses.get(name, 0)))
