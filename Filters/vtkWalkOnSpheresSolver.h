@@ -451,10 +451,9 @@ public:
   ///@{
   /**
    * How a walk samples the volume source in each ball (paper Sec. 4.2):
-   * AUTOMATIC_SOURCE_SAMPLING (the default): SOURCE_DENSITY for a source
-   * whose magnitude varies (on the grid below, mean |f|² at least 1.5 times
-   * the squared mean |f|: narrow sources, a CT image's heating),
-   * GREENS_FUNCTION for one of nearly constant magnitude; the field data SourceSamplingUsed
+   * AUTOMATIC_SOURCE_SAMPLING (the default): SOURCE_DENSITY for a narrow
+   * source (half of |f|'s mass, on the grid below, in at most 2% of its
+   * cells), GREENS_FUNCTION otherwise; the field data SourceSamplingUsed
    * says which (1 or 3). Or
    * UNIFORM in the ball, proportional to the GREENS_FUNCTION (best for
    * smooth sources), or MULTIPLE_IMPORTANCE, one sample of each

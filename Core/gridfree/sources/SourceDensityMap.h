@@ -139,22 +139,24 @@ public:
 
   bool Empty() const { return this->Mass.empty(); }
 
-  // The mean square of the cells' masses over the square of their mean:
-  // E|f|² / (E|f|)² over the box (each cell's |f| its largest sample), 1 for
-  // a source of constant magnitude, about 1/s for one spread evenly over a
-  // share s of the box, 1 + the squared coefficient of variation of |f|.
-  double PeakRatio() const
+  // The share of the cells that hold half of the mass (the heaviest first):
+  // small for a source concentrated in a small part of the box, about a
+  // half for an even one; 1 for an empty map.
+  double HalfMassCellShare() const
   {
     if (this->Mass.empty())
     {
       return 1.0;
     }
-    double squares = 0.0;
-    for (double m : this->Mass)
+    std::vector<double> heaviest(this->Mass);
+    std::sort(heaviest.begin(), heaviest.end(), std::greater<double>());
+    double held = 0.0;
+    std::size_t cells = 0;
+    while (cells < heaviest.size() && held < 0.5 * this->TotalMass)
     {
-      squares += (m / this->TotalMass) * (m / this->TotalMass);
+      held += heaviest[cells++];
     }
-    return squares * static_cast<double>(this->Mass.size());
+    return static_cast<double>(cells) / static_cast<double>(heaviest.size());
   }
   std::size_t NumberOfCells() const { return this->Mass.size(); }
   double CellSize() const { return this->Cell; }
