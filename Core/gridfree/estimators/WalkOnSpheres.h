@@ -361,6 +361,14 @@ public:
   }
 
 private:
+  // The ball's radius cap inside a narrow source (SourceIntegrator::
+  // SourceStepCap), +inf without source-density sampling.
+  double SourceCap(const Vec<DIM>& x) const
+  {
+    return this->Sources.Active() ? this->Sources.SourceStepCap(x, this->Geometry.Diagonal())
+                                  : std::numeric_limits<double>::infinity();
+  }
+
   static int EndRank(WalkEnd e)
   {
     return e == WalkEnd::MaxSteps ? 3 : (e == WalkEnd::Escaped ? 2 : (e == WalkEnd::Terminated ? 1 : 0));
@@ -475,8 +483,14 @@ private:
         // Biharmonic walks keep the largest balls: tree walking's Σ R_k² is an
         // exit time with a long tail, and smaller balls (more, smaller terms)
         // made it heavier than a 512-walk sample variance can judge at 5σ.
-        const double radius =
+        const double reach =
           biharmonic ? this->Geometry.Distance(x) : this->Geometry.StepRadius(x, s.Epsilon, &hint);
+        // The ball: as far as the boundary, or smaller inside a narrow
+        // source under source-density sampling (SourceStepCap); splitting
+        // judges the walker by its reach.
+        const double radius = !biharmonic && reach >= s.Epsilon
+          ? std::max(s.Epsilon, std::min(reach, this->SourceCap(x)))
+          : reach;
         // A NaN radius (a position that overflowed) ends the walk too: its
         // closest point is none, so the sample is NaN and visible.
         if (!(radius >= s.Epsilon))
@@ -493,11 +507,11 @@ private:
           // Splitting starts at twice the first ball (or the scale given),
           // if that is below the ceiling: points farther from the boundary
           // walk as without it.
-          const double start = 2.0 * std::max(radius, splitScale);
+          const double start = 2.0 * std::max(reach, splitScale);
           branch.NextSplit =
             start <= splitCeiling ? start : std::numeric_limits<double>::infinity();
         }
-        while (radius >= branch.NextSplit && branch.SplitsLeft > 0 && branches < kMaxBranches)
+        while (reach >= branch.NextSplit && branch.SplitsLeft > 0 && branches < kMaxBranches)
         {
           ++branches;
           // A branch that reaches a ball twice as large as it ever had

@@ -158,6 +158,8 @@ public:
     }
     return static_cast<double>(cells) / static_cast<double>(heaviest.size());
   }
+  // M = Σ m_j: the grid's bound from above on ∫|f| over its box.
+  double MassSum() const { return this->TotalMass; }
   std::size_t NumberOfCells() const { return this->Mass.size(); }
   double CellSize() const { return this->Cell; }
 

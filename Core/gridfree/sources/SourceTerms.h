@@ -146,6 +146,38 @@ public:
 
   bool Active() const { return this->Volume || !this->Concentrated.Empty(); }
 
+  // Under source-density sampling, the largest ball radius for a walker at
+  // x: R² ≤ 2n·T / F(x), F(x) the map's |f| in x's cell, so that no sample
+  // of the ball's source term, at most F·∫G = F·R²/(2n), exceeds about
+  // T = kSourceStepShare · M·Φ, M the map's mass and Φ the harmonic
+  // Green's function's scale over the domain (1/(4π · half the diagonal)
+  // in 3D, 1/(2π) in 2D). Why: a walker standing inside a narrow source
+  // with a ball much larger than it (the source far from the boundary)
+  // had its map sample fall a few thousandths from it, where G ~ 1/(4πr),
+  // and the balance heuristic weighs that sample by about M·G(r): one
+  // sample tens of standard deviations from the mean, a walk a few hundred
+  // walks see once, and the error-bar rule flagged 5% of such points (3D
+  // bump of width 0.05 in a unit sphere, 256 walks) whose bars were right.
+  // With the cap, 0.75% (Documentation/ErrorBars.md). Any ball inside the
+  // domain gives an unbiased step; this one only costs a few more steps
+  // where |f| is large. +inf otherwise.
+  static constexpr double kSourceStepShare = 2.0;
+  double SourceStepCap(const Vec<DIM>& x, double diagonal) const
+  {
+    const SourceDensityMap<DIM>* map = this->Concentrated.VolumeDensity;
+    if (this->Sampling != SourceSampling::SourceDensity || !this->Volume || !map || map->Empty())
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    const double local = map->Pdf(x) * map->MassSum();
+    if (!(local > 0.0))
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    const double scale = DIM == 3 ? 1.0 / (4.0 * M_PI * 0.5 * diagonal) : 1.0 / (2.0 * M_PI);
+    return std::sqrt(2.0 * DIM * kSourceStepShare * map->MassSum() * scale / local);
+  }
+
   // Adds an unbiased one-sample estimate of ∫_{B(x,R)} f(y) G(x, y) dy to
   // integral (Components() numbers). `green` is the ball's Green's function
   // object (harmonic or Yukawa; see GreensFunctions.h).
