@@ -11,6 +11,7 @@ point inside the head, gradient on:
   one is measured against: same boundary, slice, target and seed).
 
     pvbatch ct_bioheat.py [--target 0.05] [--most 2048] [--smoothing 2.0]
+                          [--splitting 0|1]
 
 Prints one row per solve (points inside the head, seconds, walks, steps per
 walk, walks per second, RMS and largest standard error, and the gradient's
@@ -40,6 +41,9 @@ parser.add_argument("--target", type=float, default=0.05, help="standard error (
 parser.add_argument("--most", type=int, default=2048, help="the most walks per point")
 parser.add_argument("--smoothing", type=float, default=2.0, help="Gaussian width (mm)")
 parser.add_argument("--seed", type=int, default=1)
+parser.add_argument("--splitting", type=int, choices=(0, 1), default=None,
+                    help="Near-Boundary Splitting off (0) or on (1) for both solves "
+                         "(default: the solver's default, on)")
 parser.add_argument("--constant-tissue", default="brain",
                     choices=sorted(k for k, v in bioheat_tissues.TISSUES.items() if v),
                     help="whose k, w and Q the constant-coefficient walk takes")
@@ -50,10 +54,13 @@ ct_array, inside, skin, tissues = p["ct_array"], p["inside"], p["skin_u"], p["ti
 
 
 def solver_of(equation):
-    return bioheat_tissues.bioheat_solver(skin, inside, tissues, constant=equation == "constant",
-                                          walks=args.most, target=args.target,
-                                          smoothing=args.smoothing, seed=args.seed,
-                                          constant_tissue=args.constant_tissue)
+    s = bioheat_tissues.bioheat_solver(skin, inside, tissues, constant=equation == "constant",
+                                       walks=args.most, target=args.target,
+                                       smoothing=args.smoothing, seed=args.seed,
+                                       constant_tissue=args.constant_tissue)
+    if args.splitting is not None:
+        s.NearBoundarySplitting = args.splitting
+    return s
 
 
 def row(name, s):

@@ -52,6 +52,7 @@
 #include <gridfree/coefficients/ScreeningMajorant.h>
 #include <gridfree/coefficients/VaryingCoefficients.h>
 #include <gridfree/estimators/DerivativeWalkOnSpheres.h>
+#include <gridfree/estimators/NearBoundarySplitting.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/greens/GreensFunctions.h>
 #include <gridfree/math/Vector.h>
@@ -78,6 +79,9 @@ struct VaryingCoefficientSettings
   double EscapeRadiusFactor = 8.0;
   // Estimate ∇u beside u.
   bool Gradient = false;
+  // Splitting near the boundary (WalkSettings::NearBoundarySplitting): off
+  // here; a Problem passes its own setting.
+  bool NearBoundarySplitting = false;
 };
 
 template <int DIM>
@@ -246,8 +250,12 @@ private:
 
     const Vec<DIM> nu = SampleUnitSphere<DIM>(rng);
     RandomStream replay = rng;
-    const double plus = this->Continue(x0 + r0 * nu, rng, steps);
-    const double minus = this->Continue(x0 - r0 * nu, replay, steps);
+    // (The walks from the first ball split only beyond twice the point's
+    // distance to the boundary: the way deep is rare on the point's own
+    // scale, and the ball may be smaller than that distance.)
+    const double scale = start.Distance;
+    const double plus = this->Continue(x0 + r0 * nu, rng, steps, scale);
+    const double minus = this->Continue(x0 - r0 * nu, replay, steps, scale);
     value = weightC * 0.5 * (plus + minus);
     gradient = kappa * 0.5 * (plus - minus) * nu;
 
@@ -293,29 +301,73 @@ private:
         continue;
       }
       RandomStream replayInside = rng;
-      const double aPlus = (sbar - tPlus.Screening) * this->Continue(yPlus, rng, steps);
+      const double aPlus = (sbar - tPlus.Screening) * this->Continue(yPlus, rng, steps, scale);
       const double aMinus =
-        (sbar - tMinus.Screening) * this->Continue(yMinus, replayInside, steps);
+        (sbar - tMinus.Screening) * this->Continue(yMinus, replayInside, steps, scale);
       value += q * g * 0.5 * (aPlus + aMinus) / p;
       gradient += q * dg * 0.5 * (aPlus - aMinus) / p * omega;
     }
   }
 
   // Û(x): a walk with delta tracking from x, adding its steps to `steps`.
-  double Continue(Vec<DIM> x, RandomStream& rng, int& steps)
+  // With NearBoundarySplitting, a walk whose ball grows to twice the
+  // largest it had (from twice its first, or twice `splitScale` if larger)
+  // goes on as two branches of half its weight (NearBoundarySplitting.h), walked in
+  // turn on the same stream; Û is the sum of what the branches bring back.
+  double Continue(const Vec<DIM>& x0, RandomStream& rng, int& steps, double splitScale = 0.0)
+  {
+    const double ceiling = NearBoundarySplit::Ceiling(
+      this->Settings.NearBoundarySplitting, this->Geometry.Diagonal(), 0.0);
+    this->Pending.clear();
+    this->Pending.push_back(Branch{ x0, 1.0, 1.0, 0.0, 0.0, NearBoundarySplit::kMaxSplits, 0, {} });
+    int branches = 1;
+    bool first = true;
+    double total = 0.0;
+    while (!this->Pending.empty())
+    {
+      Branch branch = this->Pending.back();
+      this->Pending.pop_back();
+      total += this->WalkBranch(branch, rng, steps, first, splitScale, ceiling, branches);
+      first = false;
+    }
+    return total;
+  }
+
+  // A branch of a walk (Continue): where it is, its weight and its share of
+  // the walk (1/2 per split: roulette plays on weight/share), a ball about
+  // it known to be clear (0: none), the reach at which it splits next, how
+  // many splits it has left, its own steps and closest-point hint.
+  struct Branch
+  {
+    Vec<DIM> X;
+    double Weight;
+    double Share;
+    double KnownClear;
+    double NextSplit;
+    int SplitsLeft;
+    int Steps;
+    typename Boundary<DIM>::StepHint Hint;
+  };
+
+  // What one branch brings back: its source terms and, if it reaches the
+  // ε-shell, its weight times √α g there. `first`: the walk's first branch
+  // (its first ball sets where it first splits).
+  double WalkBranch(Branch& branch, RandomStream& rng, int& steps, bool first, double splitScale,
+    double ceiling, int& branches)
   {
     const VaryingCoefficientSettings& s = this->Settings;
     const Vec<DIM> center = this->Geometry.Center();
     double accumulated = 0.0;
-    double weight = 1.0;
-    typename Boundary<DIM>::StepHint hint;
+    Vec<DIM> x = branch.X;
+    double weight = branch.Weight;
+    auto& hint = branch.Hint;
     CoefficientSample<DIM> c;
     // After a collision at y in B(x, R), B(y, R − |y − x|) lies inside the
     // domain too: the next step may use it without a closest-point query
     // when it is not much smaller (queries were most of a walk's time on
     // the CT head, and collisions most of its steps).
-    double knownClear = 0.0;
-    for (int own = 0;; ++own, ++steps)
+    double knownClear = branch.KnownClear;
+    for (;; ++branch.Steps, ++steps)
     {
       const double fromCenter2 = (x - center).squaredNorm();
       if (fromCenter2 > this->Escape2 || !std::isfinite(fromCenter2))
@@ -330,11 +382,21 @@ private:
       {
         break;
       }
-      if (own >= s.MaxSteps)
+      if (branch.Steps >= s.MaxSteps)
       {
         this->Note(WalkEnd::MaxSteps);
         break;
       }
+      // A branch whose ball grows to twice the largest it had goes on as
+      // two of half its weight (judged by the ball it steps on: any rule
+      // that depends on the walk so far is unbiased).
+      NearBoundarySplit::AtStep(radius, first && branch.Steps == 0, splitScale, ceiling,
+        branch.NextSplit, branch.SplitsLeft, branches, [&] {
+          weight *= 0.5;
+          branch.Share *= 0.5;
+          this->Pending.push_back(Branch{ x, weight, branch.Share, radius, branch.NextSplit,
+            branch.SplitsLeft, branch.Steps, hint });
+        });
       const BallScreening screening = this->Majorant.ForBall(x, radius);
       const double sbar = screening.Bound;
       if (sbar > 0.0)
@@ -355,7 +417,7 @@ private:
           const TransformedCoefficients t = Transform(c);
           accumulated -= weight * green.Integral() * t.Source;
           weight *= keep * (sbar - t.Screening) / (sbar - floor);
-          if (!this->Roulette(weight, rng))
+          if (!Roulette(weight, branch.Share, rng))
           {
             return accumulated;
           }
@@ -372,7 +434,7 @@ private:
           accumulated -= weight * this->SourceIntegral(x, green, screening, rng, c);
         }
         weight *= keep;
-        if (!this->Roulette(weight, rng))
+        if (!Roulette(weight, branch.Share, rng))
         {
           return accumulated;
         }
@@ -423,19 +485,21 @@ private:
     return green.Integral() * (middle + (Transform(c).Source - middle) / p);
   }
 
-  // Russian roulette on small weights (unbiased: survivors are raised back
-  // to the threshold). False when the walk ends.
-  static bool Roulette(double& weight, RandomStream& rng)
+  // Russian roulette on small weights, against the branch's share of the
+  // walk (1 unless it split: halving a weight must not end it). Unbiased:
+  // survivors are raised back to the threshold. False when the branch ends.
+  static bool Roulette(double& weight, double share, RandomStream& rng)
   {
-    if (std::abs(weight) >= kRouletteWeight)
+    const double least = kRouletteWeight * share;
+    if (std::abs(weight) >= least)
     {
       return true;
     }
-    if (rng.NextDouble() * kRouletteWeight >= std::abs(weight))
+    if (rng.NextDouble() * least >= std::abs(weight))
     {
       return false;
     }
-    weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
+    weight = weight < 0.0 ? -least : least;
     return true;
   }
 
@@ -475,6 +539,7 @@ private:
   double Escape2 = 0.0;
   WalkEnd End = WalkEnd::Boundary;
   std::vector<double> Sample;
+  std::vector<Branch> Pending; // Continue's branches still to walk
 };
 } // namespace gridfree
 

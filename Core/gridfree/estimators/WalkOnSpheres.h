@@ -47,6 +47,7 @@
 #include <gridfree/estimators/Equation.h>
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/EquationPolicies.h>
+#include <gridfree/estimators/NearBoundarySplitting.h>
 #include <gridfree/estimators/ExteriorReturn.h>
 #include <gridfree/estimators/ScreenedGuide.h>
 #include <gridfree/greens/GreensFunctions.h>
@@ -106,9 +107,12 @@ struct WalkSettings
   // depends on the walk so far is). Walks from start points farther than
   // half that depth from the boundary never split (derivative walks start
   // anew on their first ball's sphere, which touches the boundary, and
-  // split only beyond twice its radius: Walk's splitScale). Not for the
-  // biharmonic equation. Off here (the plain walks); the VTK solver, stream
-  // tracer and adaptive sampler turn it on by default.
+  // split only beyond twice its radius: Walk's splitScale). Walk on stars
+  // splits the same way by its distance to the Dirichlet part, and the
+  // varying-coefficient walk by its balls. Not for the
+  // biharmonic equation (NearBoundarySplitting.h). Off here (the plain
+  // walks); the VTK solver, stream tracer and adaptive sampler turn it on
+  // by default.
   bool NearBoundarySplitting = false;
 };
 
@@ -119,6 +123,17 @@ enum class WalkEnd
   Escaped,    // left for infinity (exterior roulette or far sphere)
   Terminated  // ended by roulette on the screening weight (unbiased)
 };
+
+// The end of a walk that ran as branches (NearBoundarySplitting), for the
+// counters: truncated if a branch was, else escaped if one escaped, else
+// ended by roulette if one was.
+inline WalkEnd MoreSevereEnd(WalkEnd a, WalkEnd b)
+{
+  const auto rank = [](WalkEnd e) {
+    return e == WalkEnd::MaxSteps ? 3 : (e == WalkEnd::Escaped ? 2 : (e == WalkEnd::Terminated ? 1 : 0));
+  };
+  return rank(b) > rank(a) ? b : a;
+}
 
 // Per-point bookkeeping beside the running statistics of the value.
 struct WalkCounters
@@ -369,23 +384,6 @@ private:
                                   : std::numeric_limits<double>::infinity();
   }
 
-  static int EndRank(WalkEnd e)
-  {
-    return e == WalkEnd::MaxSteps ? 3 : (e == WalkEnd::Escaped ? 2 : (e == WalkEnd::Terminated ? 1 : 0));
-  }
-
-  // NearBoundarySplitting: branches split while their balls stay below
-  // this fraction of the boundary's diagonal, at most this many times. (A
-  // tenth left points 0.17 from a unit sphere unsplit, and two of 4,800
-  // with e^x data and c = 1 missed their walks to the far side at |z| 5.3
-  // and 6.2; with a quarter none did, at 1.2 times the time.)
-  static constexpr double kSplitCeiling = 0.25;
-  static constexpr int kMaxSplits = 16;
-  // And at most this many branches per walk: outside a closed boundary (or
-  // near a convex corner) a walk doubles its distance nearly surely, and
-  // every level would double the branches.
-  static constexpr int kMaxBranches = 32;
-
   // A walk's branch (NearBoundarySplitting): where it is, its weight, the
   // ball radius at which it splits next and how many splits it has left,
   // its own steps and closest-point hint.
@@ -413,18 +411,14 @@ private:
     this->EndWeight = 0.0;
     double ballIntegrals = 0.0; // tree walking: Σ_k ∫_{B_k} G = Σ_k R_k²/(2n)
     WalkEnd end = WalkEnd::Boundary;
-    // (Screened: no deeper than the screening length 1/√c, beyond which what
-    // deep branches bring back is damped by e^{−√c·depth}.)
-    const double splitCeiling = !biharmonic && s.NearBoundarySplitting
-      ? std::min(kSplitCeiling * this->Geometry.Diagonal(),
-          1.0 / std::sqrt(std::max(equation.ScreeningCoefficient(), 1e-300)))
-      : 0.0;
+    const double splitCeiling = NearBoundarySplit::Ceiling(
+      !biharmonic && s.NearBoundarySplitting, this->Geometry.Diagonal(), equation.ScreeningCoefficient());
     steps = 0;
     // This walk's branches still to walk (the first, then those split off);
     // each walks on the same random stream in turn, so that the walk's
     // numbers do not depend on threads.
     this->Pending.clear();
-    this->Pending.push_back(Branch{ x0, 1.0, 0.0, kMaxSplits, 0, {} });
+    this->Pending.push_back(Branch{ x0, 1.0, 0.0, NearBoundarySplit::kMaxSplits, 0, {} });
     int branches = 1;
     while (!this->Pending.empty())
     {
@@ -502,29 +496,15 @@ private:
           branchEnd = WalkEnd::MaxSteps;
           break;
         }
-        if (steps == 0)
-        {
-          // Splitting starts at twice the first ball (or the scale given),
-          // if that is below the ceiling: points farther from the boundary
-          // walk as without it.
-          const double start = 2.0 * std::max(reach, splitScale);
-          branch.NextSplit =
-            start <= splitCeiling ? start : std::numeric_limits<double>::infinity();
-        }
-        while (reach >= branch.NextSplit && branch.SplitsLeft > 0 && branches < kMaxBranches)
-        {
-          ++branches;
-          // A branch that reaches a ball twice as large as it ever had
-          // (from near the boundary, a rare way deep) goes on as two, each
-          // with half its weight (NearBoundarySplitting).
-          weight *= 0.5;
-          branch.NextSplit = 2.0 * branch.NextSplit <= splitCeiling
-            ? 2.0 * branch.NextSplit
-            : std::numeric_limits<double>::infinity();
-          --branch.SplitsLeft;
-          this->Pending.push_back(
-            Branch{ x, weight, branch.NextSplit, branch.SplitsLeft, branch.Steps, hint });
-        }
+        // A branch that reaches a ball twice as large as it ever had (from
+        // near the boundary, a rare way deep) goes on as two, each with
+        // half its weight (NearBoundarySplitting).
+        NearBoundarySplit::AtStep(reach, steps == 0, splitScale, splitCeiling, branch.NextSplit,
+          branch.SplitsLeft, branches, [&] {
+            weight *= 0.5;
+            this->Pending.push_back(
+              Branch{ x, weight, branch.NextSplit, branch.SplitsLeft, branch.Steps, hint });
+          });
 
         if (this->Sources.Active() || biharmonic || Policy::WeightsSteps)
         {
@@ -599,7 +579,7 @@ private:
 
       // The walk's end for the counters: truncated if a branch was, else
       // escaped if one escaped, else ended by roulette if one was.
-      end = std::max(end, branchEnd, [](WalkEnd a, WalkEnd b) { return EndRank(a) < EndRank(b); });
+      end = MoreSevereEnd(end, branchEnd);
       const int nc = this->SolutionComponents;
       if (hasBoundaryValue)
       {

@@ -521,8 +521,8 @@ public:
   }
 
 private:
-  // The varying walk's settings from the problem's (its ε, step limit and
-  // far sphere), with or without the gradient.
+  // The varying walk's settings from the problem's (its ε, step limit, far
+  // sphere and splitting), with or without the gradient.
   VaryingCoefficientSettings VaryingSettings(bool gradient) const
   {
     VaryingCoefficientSettings s;
@@ -530,6 +530,7 @@ private:
     s.MaxSteps = this->Walk.MaxSteps;
     s.EscapeRadiusFactor = this->Walk.EscapeRadiusFactor;
     s.Gradient = gradient;
+    s.NearBoundarySplitting = this->Walk.NearBoundarySplitting;
     return s;
   }
 

@@ -110,11 +110,10 @@ public:
   // for a point outside, when the problem answers both sides). x1 on the
   // first ball is on that side too: the ball holds no boundary.
   void StartFrom(const Vec<DIM>& centre) { this->Walker.ChooseSide(centre); }
-  // (Walk on stars does not split: the split scale is not used.)
   WalkEnd Walk(const Vec<DIM>& x, double, RandomStream& rng, double* sample, int& steps,
-    std::uint64_t&, double = 0.0)
+    std::uint64_t&, double splitScale = 0.0)
   {
-    return this->Walker.Walk(x, rng, sample, steps);
+    return this->Walker.Walk(x, rng, sample, steps, splitScale);
   }
   double LastWeight() const { return 1.0; }
   double FirstStepWeight() const { return 1.0; }

@@ -39,20 +39,28 @@
 // - The source term: the walk-on-spheres sampler of the ball (SourceTerms.h)
 //   with every sample y outside St (hidden from x_k, or behind the Neumann
 //   part x_k lies on) given weight 0, the others 1/α; minus sign as in
-//   FORMULAS.md §2.
+//   FORMULAS.md §2. Under source-density sampling R is also capped where
+//   the walker stands in a strong source (SourceIntegrator::SourceStepCap),
+//   as walk on spheres caps its balls.
 // - On a Robin primitive (μ > 0) the ray weight is Q(r) − μ|S| G(r)
 //   r^{n−1}/(n·v) (WoSt-7), and R is also bounded so that this stays >= 0
 //   (MixedBoundary::RobinRadius).
 // A walk ends within ε of the Dirichlet part and takes g at its closest
-// point there. A screened walk whose weight falls below kRouletteWeight
-// survives with probability weight / kRouletteWeight and then carries
-// kRouletteWeight (unbiased): with no Dirichlet part that is how walks end.
-// Walks with Robin primitives play it too, their weights falling at Robin hits.
+// point there. With WalkSettings::NearBoundarySplitting, a walk whose
+// distance to the Dirichlet part grows to twice the largest it had goes on
+// as two branches of half its weight (NearBoundarySplitting.h), each
+// walked in turn on the same random stream.
+// A screened walk whose weight falls below kRouletteWeight survives with
+// probability weight / kRouletteWeight and then carries kRouletteWeight
+// (unbiased): with no Dirichlet part that is how walks end.
+// Walks with Robin primitives play it too, their weights falling at Robin
+// hits; a branch plays it against its share of the walk (1/2 per split).
 #ifndef GRIDFREE_STARS_WALK_ON_STARS_H
 #define GRIDFREE_STARS_WALK_ON_STARS_H
 
 #include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/ExteriorReturn.h>
+#include <gridfree/estimators/NearBoundarySplitting.h>
 #include <gridfree/estimators/WalkOnSpheres.h>
 #include <gridfree/sampling/BallSampling.h>
 #include <gridfree/sampling/Random.h>
@@ -181,15 +189,17 @@ public:
   }
 
   // One walk from x0 (in the domain ChooseSide chose: the given one unless
-  // it was asked); writes OutputComponents() numbers.
-  WalkEnd Walk(const Vec<DIM>& x0, RandomStream& rng, double* sample, int& steps)
+  // it was asked); writes OutputComponents() numbers. `splitScale` as for
+  // walk on spheres (NearBoundarySplit::First).
+  WalkEnd Walk(
+    const Vec<DIM>& x0, RandomStream& rng, double* sample, int& steps, double splitScale = 0.0)
   {
     if (this->Settings.Problem == Equation::ScreenedPoisson)
     {
-      return this->WalkWith(
-        x0, rng, sample, steps, equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
+      return this->WalkWith(x0, rng, sample, steps, splitScale,
+        equations::Screened<DIM>{ this->Settings.ScreeningCoefficient });
     }
-    return this->WalkWith(x0, rng, sample, steps, equations::Harmonic<DIM>{});
+    return this->WalkWith(x0, rng, sample, steps, splitScale, equations::Harmonic<DIM>{});
   }
 
 private:
@@ -205,8 +215,29 @@ private:
     return !this->Geometry->Reflecting().Hierarchy().Occluded(origin, y - origin, 1.0, 0.0);
   }
 
+  // A walk's branch (NearBoundarySplitting): where it is, on which
+  // Neumann primitive (if any) and with what normal, its weight and its
+  // share of the walk (1/2 per split: roulette plays on weight/share), the
+  // reach at which it splits next, how many splits it has left, its own
+  // steps and closest-point hint.
+  struct Branch
+  {
+    Vec<DIM> X;
+    double Weight;
+    double Share;
+    bool OnNeumann;
+    std::int64_t OnPrimitive;
+    Vec<DIM> N;
+    double NextSplit;
+    int SplitsLeft;
+    int Steps;
+    typename Boundary<DIM>::StepHint Hint;
+  };
+
   template <class Policy>
-  WalkEnd WalkWith(Vec<DIM> x, RandomStream& rng, double* sample, int& steps, const Policy& equation)
+  WalkEnd WalkWith(
+    const Vec<DIM>& x0, RandomStream& rng, double* sample, int& steps, double splitScale,
+    const Policy& equation)
   {
     constexpr bool screened = Policy::WeightsSteps;
     const WalkSettings& s = this->Settings;
@@ -219,177 +250,217 @@ private:
     const double sqrtC = std::sqrt(equation.ScreeningCoefficient());
     const double escape2 = this->EscapeRadius * this->EscapeRadius;
     std::fill(this->Accumulated.begin(), this->Accumulated.end(), 0.0);
-    double weight = 1.0;
-    bool onNeumann = false;
-    std::int64_t onPrimitive = -1; // the Neumann primitive x lies on
-    Vec<DIM> n = Vec<DIM>::Zero();
     WalkEnd end = WalkEnd::Boundary;
-    bool hasValue = true;
-    typename Boundary<DIM>::StepHint hint;
     const bool exterior = b.IsExterior();
     const double far = s.FarRadiusFactor * this->EnclosingRadius;
-    for (steps = 0;; ++steps)
+    // Splitting judges a walker by its distance to the Dirichlet part (the
+    // walks' only end besides roulette): none without one.
+    const double splitCeiling = NearBoundarySplit::Ceiling(
+      s.NearBoundarySplitting && hasD, b.Diagonal(), equation.ScreeningCoefficient());
+    steps = 0;
+    // This walk's branches still to walk (the first, then those split off),
+    // each on the same random stream in turn: the walk's numbers do not
+    // depend on threads.
+    this->Pending.clear();
+    this->Pending.push_back(Branch{ x0, 1.0, 1.0, false, -1, Vec<DIM>::Zero(), 0.0,
+      NearBoundarySplit::kMaxSplits, 0, {} });
+    int branches = 1;
+    while (!this->Pending.empty())
     {
-      if (!screened && exterior && (x - this->Center).squaredNorm() > far * far)
+      Branch branch = this->Pending.back();
+      this->Pending.pop_back();
+      Vec<DIM> x = branch.X;
+      double weight = branch.Weight;
+      bool onNeumann = branch.OnNeumann;
+      std::int64_t onPrimitive = branch.OnPrimitive; // the Neumann primitive x lies on
+      Vec<DIM> n = branch.N;
+      WalkEnd branchEnd = WalkEnd::Boundary;
+      bool hasValue = true;
+      auto& hint = branch.Hint;
+      for (;; ++branch.Steps, ++steps)
       {
-        // Far outside (exterior domain, Laplace): back to the sphere about
-        // the boundary with the probability Brownian motion ever returns,
-        // at its hitting point, or gone for good (u → 0 at infinity;
-        // ExteriorReturn.h).
-        const double r = (x - this->Center).norm();
-        if (rng.NextDouble() >= ReturnProbability<DIM>(r, this->EnclosingRadius))
+        if (!screened && exterior && (x - this->Center).squaredNorm() > far * far)
         {
-          end = WalkEnd::Terminated;
+          // Far outside (exterior domain, Laplace): back to the sphere about
+          // the boundary with the probability Brownian motion ever returns,
+          // at its hitting point, or gone for good (u → 0 at infinity;
+          // ExteriorReturn.h).
+          const double r = (x - this->Center).norm();
+          if (rng.NextDouble() >= ReturnProbability<DIM>(r, this->EnclosingRadius))
+          {
+            branchEnd = WalkEnd::Terminated;
+            hasValue = false;
+            break;
+          }
+          x = SampleExteriorReturn<DIM>(x, this->Center, this->EnclosingRadius, rng);
+          onNeumann = false;
+        }
+        if (!((x - this->Center).squaredNorm() <= escape2))
+        {
+          branchEnd = WalkEnd::Escaped;
           hasValue = false;
           break;
         }
-        x = SampleExteriorReturn<DIM>(x, this->Center, this->EnclosingRadius, rng);
-        onNeumann = false;
-      }
-      if (!((x - this->Center).squaredNorm() <= escape2))
-      {
-        end = WalkEnd::Escaped;
-        hasValue = false;
-        break;
-      }
-      const double toDirichlet =
-        hasD ? b.Dirichlet().StepRadius(x, s.Epsilon, &hint) : std::numeric_limits<double>::infinity();
-      if (!(toDirichlet >= s.Epsilon))
-      {
-        break;
-      }
-      if (steps >= s.MaxSteps)
-      {
-        end = WalkEnd::MaxSteps;
-        break;
-      }
-      double radius = std::min(toDirichlet, this->MaxRadius);
-      if (hasN)
-      {
-        const double toSilhouette = b.Silhouettes().ClosestDistance(x, radius);
-        if (toSilhouette < radius)
+        const double toDirichlet =
+          hasD ? b.Dirichlet().StepRadius(x, s.Epsilon, &hint) : std::numeric_limits<double>::infinity();
+        if (!(toDirichlet >= s.Epsilon))
         {
-          radius = std::max(s.Epsilon, kSilhouetteShrink * toSilhouette);
+          break;
         }
-        if (robin)
+        if (branch.Steps >= s.MaxSteps)
         {
-          radius = std::max(s.Epsilon, std::min(radius, b.RobinRadius(x, radius)));
+          branchEnd = WalkEnd::MaxSteps;
+          break;
         }
-      }
-      const auto green = equation.Green(radius);
-      const double alphaInverse = onNeumann ? 2.0 : 1.0;
-
-      Vec<DIM> v = SampleUnitSphere<DIM>(rng);
-      if (onNeumann && v.dot(n) > 0.0)
-      {
-        v = -v; // the inward hemisphere
-      }
-      const Vec<DIM> origin = onNeumann ? Vec<DIM>(x - this->Offset * n) : x;
-
-      if (this->Sources.Active())
-      {
-        // −∫_{St} f G (WoSt-2; FORMULAS.md §2 for the sign).
-        std::fill(this->Inner.begin(), this->Inner.end(), 0.0);
-        this->Sources.Accumulate(x, green, rng, this->Inner.data(),
-          [&](const Vec<DIM>& y) {
-            return !hasN || this->Sees(x, origin, onNeumann, n, y) ? alphaInverse : 0.0;
+        // A branch whose distance to the Dirichlet part grows to twice the
+        // largest it had goes on as two of half its weight (as walk on
+        // spheres' do: NearBoundarySplitting).
+        NearBoundarySplit::AtStep(toDirichlet, steps == 0, splitScale, splitCeiling,
+          branch.NextSplit, branch.SplitsLeft, branches, [&] {
+            weight *= 0.5;
+            branch.Share *= 0.5;
+            this->Pending.push_back(Branch{ x, weight, branch.Share, onNeumann, onPrimitive, n,
+              branch.NextSplit, branch.SplitsLeft, branch.Steps, hint });
           });
-        for (int c = 0; c < nc; ++c)
+        double radius = std::min(toDirichlet, this->MaxRadius);
+        if (hasN)
         {
-          this->Accumulated[c] -= weight * this->Inner[c];
+          const double toSilhouette = b.Silhouettes().ClosestDistance(x, radius);
+          if (toSilhouette < radius)
+          {
+            radius = std::max(s.Epsilon, kSilhouetteShrink * toSilhouette);
+          }
+          if (robin)
+          {
+            radius = std::max(s.Epsilon, std::min(radius, b.RobinRadius(x, radius)));
+          }
         }
-      }
+        if (this->Sources.Active())
+        {
+          // Smaller stars where the walker stands in a strong source under
+          // source-density sampling (SourceIntegrator::SourceStepCap): a
+          // smaller star is as unbiased, and it keeps one map sample near
+          // the walker from outweighing the rest.
+          radius = std::max(s.Epsilon, std::min(radius, this->Sources.SourceStepCap(x, b.Diagonal())));
+        }
+        const auto green = equation.Green(radius);
+        const double alphaInverse = onNeumann ? 2.0 : 1.0;
 
-      if (hasN)
-      {
-        if (flux)
+        Vec<DIM> v = SampleUnitSphere<DIM>(rng);
+        if (onNeumann && v.dot(n) > 0.0)
         {
-          this->AddFluxTerm(
-            x, origin, onNeumann, n, onPrimitive, radius, green, alphaInverse * weight, rng);
+          v = -v; // the inward hemisphere
         }
-        const RayHit<DIM> hit = b.Reflecting().Hierarchy().Intersect(origin, v, radius);
-        if (hit.Hit() && hit.t < radius)
+        const Vec<DIM> origin = onNeumann ? Vec<DIM>(x - this->Offset * n) : x;
+
+        if (this->Sources.Active())
         {
-          Vec<DIM> normal = b.OutwardNormal(hit.primitive);
-          if (normal.dot(v) < 0.0)
+          // −∫_{St} f G (WoSt-2; FORMULAS.md §2 for the sign).
+          std::fill(this->Inner.begin(), this->Inner.end(), 0.0);
+          this->Sources.Accumulate(x, green, rng, this->Inner.data(),
+            [&](const Vec<DIM>& y) {
+              return !hasN || this->Sees(x, origin, onNeumann, n, y) ? alphaInverse : 0.0;
+            });
+          for (int c = 0; c < nc; ++c)
           {
-            // Met from outside: keep the walk on the side it came from
-            // (an insulating sheet's other side is no fault).
-            this->BackHits += b.IsTwoSided(hit.primitive) ? 0 : 1;
-            normal = -normal;
+            this->Accumulated[c] -= weight * this->Inner[c];
           }
-          const double r = (hit.point - x).norm();
-          double q = 1.0;
-          if constexpr (screened)
+        }
+
+        if (hasN)
+        {
+          if (flux)
           {
-            q = ScreenedRayWeight<DIM>(r, radius, sqrtC);
+            this->AddFluxTerm(
+              x, origin, onNeumann, n, onPrimitive, radius, green, alphaInverse * weight, rng);
           }
-          const double mu = b.RobinCoefficient(hit.primitive);
-          if (mu > 0.0)
+          const RayHit<DIM> hit = b.Reflecting().Hierarchy().Intersect(origin, v, radius);
+          if (hit.Hit() && hit.t < radius)
           {
-            // WoSt-7: the Robin part's −∫ μ G u joins the ray weight.
-            const double cosine = std::max(normal.dot(v), 1e-300);
-            q -= mu * UnitSphereArea<DIM>() * green.Value(std::max(r, this->MinDistance)) *
-              (DIM == 2 ? r : r * r) / cosine;
+            Vec<DIM> normal = b.OutwardNormal(hit.primitive);
+            if (normal.dot(v) < 0.0)
+            {
+              // Met from outside: keep the walk on the side it came from
+              // (an insulating sheet's other side is no fault).
+              this->BackHits += b.IsTwoSided(hit.primitive) ? 0 : 1;
+              normal = -normal;
+            }
+            const double r = (hit.point - x).norm();
+            double q = 1.0;
+            if constexpr (screened)
+            {
+              q = ScreenedRayWeight<DIM>(r, radius, sqrtC);
+            }
+            const double mu = b.RobinCoefficient(hit.primitive);
+            if (mu > 0.0)
+            {
+              // WoSt-7: the Robin part's −∫ μ G u joins the ray weight.
+              const double cosine = std::max(normal.dot(v), 1e-300);
+              q -= mu * UnitSphereArea<DIM>() * green.Value(std::max(r, this->MinDistance)) *
+                (DIM == 2 ? r : r * r) / cosine;
+            }
+            weight *= q;
+            x = hit.point;
+            n = normal;
+            onNeumann = true;
+            onPrimitive = hit.primitive;
           }
-          weight *= q;
-          x = hit.point;
-          n = normal;
-          onNeumann = true;
-          onPrimitive = hit.primitive;
+          else
+          {
+            // From the point the ray was traced from: from x itself, a ray
+            // that grazes a neighbouring primitive may cross it within the
+            // radius where the traced one, Offset below, crosses beyond it,
+            // and the walk would leave the domain (seen as back-face hits).
+            x = origin + radius * v;
+            onNeumann = false;
+            if constexpr (screened)
+            {
+              weight *= green.BoundaryWeight();
+            }
+          }
         }
         else
         {
-          // From the point the ray was traced from: from x itself, a ray
-          // that grazes a neighbouring primitive may cross it within the
-          // radius where the traced one, Offset below, crosses beyond it,
-          // and the walk would leave the domain (seen as back-face hits).
-          x = origin + radius * v;
-          onNeumann = false;
+          x += radius * v;
           if constexpr (screened)
           {
             weight *= green.BoundaryWeight();
           }
         }
-      }
-      else
-      {
-        x += radius * v;
-        if constexpr (screened)
-        {
-          weight *= green.BoundaryWeight();
-        }
-      }
 
-      if (screened || robin)
-      {
-        // Roulette on |weight|: a Robin weight may fall below 0 where the
-        // radius floor ε overrides RobinRadius.
-        const double magnitude = std::abs(weight);
-        if (magnitude < kRouletteWeight)
+        if (screened || robin)
         {
-          if (rng.NextDouble() * kRouletteWeight >= magnitude)
+          // Roulette on |weight| against the branch's share of the walk
+          // (1 unless it split): a Robin weight may fall below 0 where the
+          // radius floor ε overrides RobinRadius.
+          const double magnitude = std::abs(weight);
+          const double least = kRouletteWeight * branch.Share;
+          if (magnitude < least)
           {
-            end = WalkEnd::Terminated;
-            hasValue = false;
-            break;
+            if (rng.NextDouble() * least >= magnitude)
+            {
+              branchEnd = WalkEnd::Terminated;
+              hasValue = false;
+              break;
+            }
+            weight = weight < 0.0 ? -least : least;
           }
-          weight = weight < 0.0 ? -kRouletteWeight : kRouletteWeight;
         }
       }
-    }
 
-    if (hasValue && hasD)
-    {
-      b.Dirichlet().Evaluate(x, b.Dirichlet().ClosestPoint(x, hint), this->Values.data());
-    }
-    else
-    {
-      std::fill(this->Values.begin(), this->Values.end(), 0.0);
+      end = MoreSevereEnd(end, branchEnd);
+      if (hasValue && hasD)
+      {
+        b.Dirichlet().Evaluate(x, b.Dirichlet().ClosestPoint(x, hint), this->Values.data());
+        for (int c = 0; c < nc; ++c)
+        {
+          this->Accumulated[c] += weight * this->Values[c];
+        }
+      }
     }
     for (int c = 0; c < nc; ++c)
     {
-      sample[c] = this->Accumulated[c] + weight * this->Values[c];
+      sample[c] = this->Accumulated[c];
     }
     return end;
   }
@@ -514,6 +585,7 @@ private:
   std::vector<double> Inner;
   std::vector<double> Accumulated;
   std::vector<double> Sample;
+  std::vector<Branch> Pending;
 };
 } // namespace gridfree
 
