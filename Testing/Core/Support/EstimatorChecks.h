@@ -80,6 +80,27 @@ std::vector<Vec<DIM>> RandomPointsInBall(
   return points;
 }
 
+// Each point p (inside a closed surface about the origin, at least 0.9
+// from it) moved outwards along the ray from the origin, from 0.9·p/|p| in
+// steps of 10⁻⁵, until `distance` (to the surface, or to the part of it
+// that matters) is at most `gap`: points a gap from the surface.
+template <class Distance>
+std::vector<Vec3> PointsAtGap(const std::vector<Vec3>& from, double gap, const Distance& distance)
+{
+  std::vector<Vec3> near;
+  for (const Vec3& p : from)
+  {
+    const Vec3 d = p.normalized();
+    double t = 0.9;
+    while (distance((t + 1e-5) * d) > gap)
+    {
+      t += 1e-5;
+    }
+    near.push_back(t * d);
+  }
+  return near;
+}
+
 template <int DIM>
 std::vector<Vec<DIM>> RandomPointsInBox(int count, double half, std::uint32_t seed)
 {

@@ -317,18 +317,8 @@ TEST(VaryingCoefficientWalk, NearBoundarySplittingCarriesTheRareDeepWalks)
   const ManufacturedField<3> field(with);
   const SimplexMesh<3> mesh = MakeIcosphere(3);
   const Boundary<3> shape = ExactBoundary<3>(mesh, with.U);
-  std::vector<Vec3> near;
-  for (const Vec3& p : RandomPointsInBall<3>(40, 0.9, 61))
-  {
-    // Outwards along the ray through p until the mesh lies 10⁻³ away.
-    const Vec3 d = p.normalized();
-    double t = 0.9;
-    while (shape.Distance((t + 1e-5) * d) > 1e-3)
-    {
-      t += 1e-5;
-    }
-    near.push_back(t * d);
-  }
+  const std::vector<Vec3> near = PointsAtGap(RandomPointsInBall<3>(40, 0.9, 61), 1e-3,
+    [&](const Vec3& x) { return shape.Distance(x); });
   const VaryingResult plain = CalibrateVarying<3>(mesh, with, field, near, 512, 2, false, 1e-6);
   const VaryingResult split =
     CalibrateVarying<3>(mesh, with, field, near, 512, 2, false, 1e-6, true);

@@ -201,18 +201,8 @@ TEST(PoissonWalkOnSpheres3D, NearBoundarySplittingCarriesTheRareDeepWalks)
     std::make_shared<CallableBoundaryValues<3>>(
       [u](const Vec3& z, std::int64_t, double* out) { out[0] = u(z); }, 1));
   FunctionSource<3> f([](const Vec3&) { return 6.0; });
-  std::vector<Vec3> near;
-  for (const Vec3& p : RandomPointsInBall<3>(60, 0.9, 61))
-  {
-    // Outwards along the ray through p until the mesh lies 10⁻³ away.
-    const Vec3 d = p.normalized();
-    double t = 0.9;
-    while (boundary.Distance((t + 1e-5) * d) > 1e-3)
-    {
-      t += 1e-5;
-    }
-    near.push_back(t * d);
-  }
+  const std::vector<Vec3> near = PointsAtGap(RandomPointsInBall<3>(60, 0.9, 61), 1e-3,
+    [&](const Vec3& x) { return boundary.Distance(x); });
   WalkSettings settings = Settings<3>(Equation::Poisson, SourceSampling::GreensFunction);
   settings.Epsilon = 1e-6;
   const Calibration plain = CheckEstimator<3>(boundary, settings, near, { u }, 512, 62, &f)[0];
