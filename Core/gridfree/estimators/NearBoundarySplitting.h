@@ -1,7 +1,7 @@
 // Near-boundary splitting (WalkSettings::NearBoundarySplitting), the rule
-// walk on spheres, walk on stars and the varying-coefficient walk share. From near the boundary most
-// walks end at once, and the few that wander deep bring back what the rest
-// never see; a walk whose reach (its distance to the absorbing boundary)
+// walk on spheres, walk on stars and the varying-coefficient walk share.
+// From near the boundary most walks end at once, and the few that wander
+// deep bring back what the rest never see; a walk whose reach (its distance to the absorbing boundary)
 // grows to twice the largest it had goes on as two branches of half its
 // weight, so that nearly every walk carries a share of the deep ones. Any
 // rule that depends on the walk so far is unbiased.
@@ -37,9 +37,10 @@ struct NearBoundarySplit
     return on ? std::min(kCeiling * diagonal, 1.0 / std::sqrt(std::max(screening, 1e-300))) : 0.0;
   }
 
-  // The reach at which a walk first splits: twice its first reach (or the
-  // scale given: derivative walks start on their first ball's sphere,
-  // which touches the boundary, and split only beyond twice its radius),
+  // The reach at which a walk first splits: twice its first reach or the
+  // scale given, whichever is larger (walks that go on from a derivative's
+  // first ball start near the boundary and split only beyond twice the
+  // scale of the point they estimate),
   // if that is below the ceiling; infinity otherwise, so that points
   // farther than half the ceiling from the boundary walk as without it.
   static double First(double reach, double scale, double ceiling)

@@ -312,8 +312,9 @@ private:
   // Û(x): a walk with delta tracking from x, adding its steps to `steps`.
   // With NearBoundarySplitting, a walk whose ball grows to twice the
   // largest it had (from twice its first, or twice `splitScale` if larger)
-  // goes on as two branches of half its weight (NearBoundarySplitting.h), walked in
-  // turn on the same stream; Û is the sum of what the branches bring back.
+  // goes on as two branches of half its weight (NearBoundarySplitting.h),
+  // walked in turn on the same stream; Û is the sum of what the branches
+  // bring back.
   double Continue(const Vec<DIM>& x0, RandomStream& rng, int& steps, double splitScale = 0.0)
   {
     const double ceiling = NearBoundarySplit::Ceiling(
