@@ -812,6 +812,7 @@ bool ProblemBuilder::Internals::Make(vtkObject* self, ProblemBuilder& builder, B
   settings.ScreeningCoefficient = s.ScreeningCoefficient;
   settings.Sampling = s.SourceSampling;
   settings.Screening = s.ScreenedSteps;
+  settings.PeakGuiding = s.PeakSteps;
   settings.NearBoundarySplitting = s.NearBoundarySplitting;
   // Mixed conditions: points outside the closed boundary get the exterior
   // problem's answer where it is solved (the Laplace equation, or the

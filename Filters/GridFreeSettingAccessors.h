@@ -44,6 +44,7 @@ inline void PrintProblemSettings(std::ostream& os, vtkIndent indent, const Solve
   os << indent << "SourceExpression: " << text(s.SourceExpression) << "\n";
   os << indent << "SourceSampling: " << CodeOf(s.SourceSampling) << "\n";
   os << indent << "ScreenedSteps: " << CodeOf(s.ScreenedSteps) << "\n";
+  os << indent << "PeakSteps: " << CodeOf(s.PeakSteps) << "\n";
   os << indent << "SourceOperator: " << CodeOf(s.SourceOperator) << "\n";
   os << indent << "BiharmonicStrategy: " << CodeOf(s.BiharmonicStrategy) << "\n";
   os << indent << "NestedWalks: " << s.NestedWalks << "\n";

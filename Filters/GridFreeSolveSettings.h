@@ -56,6 +56,7 @@ struct SolveSettings
   std::string SourceExpression;
   gridfree::SourceSampling SourceSampling = gridfree::SourceSampling::Automatic;
   gridfree::ScreenedSteps ScreenedSteps = gridfree::ScreenedSteps::Automatic;
+  gridfree::PeakSteps PeakSteps = gridfree::PeakSteps::Automatic;
   gridfree::SourceOperator SourceOperator = gridfree::SourceOperator::Value;
   gridfree::BiharmonicStrategy BiharmonicStrategy = gridfree::BiharmonicStrategy::TreeWalking;
   int NestedWalks = 1;

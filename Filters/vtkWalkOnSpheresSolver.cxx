@@ -211,6 +211,7 @@ GRIDFREE_CHOICE_SETTER(
   SourceSampling, "uniform", "Green's function", "multiple importance", "source density",
   "automatic")
 GRIDFREE_CHOICE_SETTER(ScreenedSteps, "automatic", "uniform", "guided")
+GRIDFREE_CHOICE_SETTER(PeakSteps, "automatic", "uniform", "guided")
 GRIDFREE_CHOICE_SETTER(BiharmonicStrategy, "tree walking", "nested")
 GRIDFREE_CHOICE_SETTER(CsgOperation, "none", "union", "intersection", "difference")
 #undef GRIDFREE_CHOICE_SETTER
@@ -499,6 +500,10 @@ static_assert(vtkWalkOnSpheresSolver::SCREENED_STEPS_AUTOMATIC ==
   vtkWalkOnSpheresSolver::SCREENED_STEPS_UNIFORM ==
     static_cast<int>(gridfree::ScreenedSteps::Uniform) &&
   vtkWalkOnSpheresSolver::SCREENED_STEPS_GUIDED == static_cast<int>(gridfree::ScreenedSteps::Guided));
+static_assert(vtkWalkOnSpheresSolver::PEAK_STEPS_AUTOMATIC ==
+    static_cast<int>(gridfree::PeakSteps::Automatic) &&
+  vtkWalkOnSpheresSolver::PEAK_STEPS_UNIFORM == static_cast<int>(gridfree::PeakSteps::Uniform) &&
+  vtkWalkOnSpheresSolver::PEAK_STEPS_GUIDED == static_cast<int>(gridfree::PeakSteps::Guided));
 static_assert(vtkWalkOnSpheresSolver::TREE_WALKING ==
     static_cast<int>(gridfree::BiharmonicStrategy::TreeWalking) &&
   vtkWalkOnSpheresSolver::NESTED == static_cast<int>(gridfree::BiharmonicStrategy::Nested));

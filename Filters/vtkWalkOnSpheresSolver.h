@@ -491,6 +491,32 @@ public:
   int GetScreenedSteps();
   ///@}
 
+  enum PeakStepsType
+  {
+    PEAK_STEPS_AUTOMATIC = 0,
+    PEAK_STEPS_UNIFORM = 1,
+    PEAK_STEPS_GUIDED = 2
+  };
+
+  ///@{
+  /**
+   * Whether walk on spheres' steps lean toward a narrow peak of the
+   * boundary data (a small hot spot, the potential of a charge just outside
+   * the boundary): PEAK_STEPS_GUIDED draws 70% of the landing points with
+   * density proportional to e^{−√c·s}/s, s the distance to the data's
+   * largest |g| (1/s for the Laplace and Poisson equations), and reweights
+   * them (unbiased). Uniform steps rarely end on such a peak, which carries
+   * much of the answer far from it, and their error bars come out too
+   * small. PEAK_STEPS_AUTOMATIC (the default) leans where the largest |g| is
+   * at least 10 times the area-weighted mean |g|, with no source, no
+   * polynomial control variate, and no guided screened steps (nor Screened
+   * Steps set to uniform). 3D meshes with Dirichlet data only
+   * (gridfree/estimators/PeakGuide.h).
+   */
+  virtual void SetPeakSteps(int value); // a value out of range is an error
+  int GetPeakSteps();
+  ///@}
+
   enum BiharmonicStrategyType
   {
     TREE_WALKING = 0,

@@ -104,6 +104,37 @@ def test_strong_screening_takes_guided_steps_with_right_error_bars():
     assert checker.errors and solver.GetScreenedSteps() == solver.SCREENED_STEPS_AUTOMATIC
 
 
+def test_a_narrow_peak_of_the_data_takes_steps_toward_it():
+    # u = 1/|x − a| with a just outside the unit sphere: harmonic inside,
+    # and its values on the sphere (from the expression, exact where walks
+    # end) a narrow peak near a, which uniform steps rarely reach. By default steps lean toward the peak; the error
+    # bars are right at every point of the line and none is flagged.
+    a = (1.05, 0.1, 0.0)
+    exact = lambda x, y, z: 1.0 / math.dist((x, y, z), a)  # noqa: E731
+    boundary = sphere_boundary(lambda x, y, z: 0.0, resolution=64)
+    solver = solver_for(boundary, LINE, 256)
+    solver.SetBoundaryValueExpression("1/sqrt((x-1.05)^2+(y-0.1)^2+z^2)")
+    assert solver.GetPeakSteps() == solver.PEAK_STEPS_AUTOMATIC
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    output = solver.GetOutput()
+    reliable = output.GetPointData().GetArray("Solution_VarianceReliable")
+    assert all(reliable.GetValue(i) == 1 for i in range(100))
+    assert not catcher.warnings, catcher.warning_text()
+    scores = z_scores(output, exact, "Solution")
+    assert max(abs(z) for z in scores) < 5.0
+    assert 0.6 < sum(z * z for z in scores) / len(scores) < 1.5
+    # Uniform steps: the same line's error bars are too small.
+    solver.SetPeakSteps(solver.PEAK_STEPS_UNIFORM)
+    solver.Update()
+    uniform = z_scores(solver.GetOutput(), exact, "Solution")
+    assert sum(z * z for z in uniform) / len(uniform) > 1.5
+    # The setting is checked like the others.
+    checker = MessageCatcher(solver)
+    solver.SetPeakSteps(3)
+    assert checker.errors and solver.GetPeakSteps() == solver.PEAK_STEPS_UNIFORM
+
+
 def test_jumping_data_with_few_walks_is_flagged_where_the_walks_agree():
     # g = sign(y) on the unit circle; with 32 walks, points near the circle
     # often see one side only (variance 0, and no error bar at all), or

@@ -164,6 +164,7 @@ public:
   // side of the boundary alike).
   void StartFrom(const Vec<DIM>&) {}
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
+  void SetPeakGuide(const PeakGuide<DIM>* guide) { this->Walker.SetPeakGuide(guide); }
   WalkEnd Walk(const Vec<DIM>& x, double escapeRadius, RandomStream& rng, double* sample,
     int& steps, std::uint64_t& returns, double splitScale = 0.0)
   {
@@ -269,6 +270,8 @@ public:
   const Continuation& Continuations() const { return this->Walker; }
   // Guided screened steps for the walks after the first ball (ScreenedGuide.h).
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
+  // Steps toward the data's peak for those walks (PeakGuide.h).
+  void SetPeakGuide(const PeakGuide<DIM>* guide) { this->Walker.SetPeakGuide(guide); }
 
   // The control variates of a walk use the running means of the walks
   // before it in its block of kControlBlock walks (walks 0–255, 256–511, …),

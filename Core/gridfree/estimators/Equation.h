@@ -40,6 +40,17 @@ enum class ScreenedSteps
   Guided     // always guided on a mesh, sources or not
 };
 
+// Whether walk on spheres' steps lean toward a narrow peak of the boundary
+// data (PeakGuide.h; 3D meshes, Dirichlet problems).
+enum class PeakSteps
+{
+  Automatic, // where the largest |g| is at least 10 times the mean |g| and there
+             // is no source, no polynomial control variate, and no other guide
+             // (nor Screened Steps set to Uniform)
+  Uniform,   // never
+  Guided     // wherever the data has a nonzero value (3D meshes)
+};
+
 } // namespace gridfree
 
 #endif

@@ -48,6 +48,7 @@
 #include <gridfree/boundary/Boundary.h>
 #include <gridfree/estimators/EquationPolicies.h>
 #include <gridfree/estimators/NearBoundarySplitting.h>
+#include <gridfree/estimators/PeakGuide.h>
 #include <gridfree/estimators/ExteriorReturn.h>
 #include <gridfree/estimators/ScreenedGuide.h>
 #include <gridfree/greens/GreensFunctions.h>
@@ -90,6 +91,10 @@ struct WalkSettings
   // of ScreenedGuide.h instead of uniformly (Problem builds the guide;
   // estimators made without one step uniformly).
   ScreenedSteps Screening = ScreenedSteps::Automatic;
+  // Walk on spheres on a 3D mesh: whether steps lean toward the data's
+  // narrow peak (PeakGuide.h; Problem builds the guide, estimators made
+  // without one step uniformly).
+  PeakSteps PeakGuiding = PeakSteps::Automatic;
   // Walk on stars: a start point outside the closed mixed boundary walks in
   // the domain on its other side (the exterior problem: the Laplace
   // equation, or the screened one without sources; WalkOnStars.h), as walk on spheres answers points on
@@ -298,6 +303,9 @@ public:
   // Guided steps for the screened equation (ScreenedGuide.h); null: every
   // step lands uniformly. The guide must outlive the estimator.
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Guide = guide; }
+  // Steps toward the data's peak (PeakGuide.h, 3D), where no screened
+  // guide leads the step.
+  void SetPeakGuide(const PeakGuide<DIM>* guide) { this->Peak = guide; }
 
   // The weight the last walk ended with (1 for the unscreened equations).
   double LastWeight() const { return this->EndWeight; }
@@ -574,6 +582,21 @@ private:
           }
         }
 
+        if constexpr (DIM == 3)
+        {
+          if (!guided && this->Peak)
+          {
+            // Toward the data's peak: the factor U/q ≤ 1/(1 − α) (PeakGuide.h).
+            double factor = 1.0;
+            direction = this->Peak->Step(x, radius, rng, factor);
+            guided = true;
+            weight *= factor;
+            if (steps == 0)
+            {
+              this->FirstWeight *= PeakGuide<DIM>::LargestFactor();
+            }
+          }
+        }
         x += radius * (guided ? direction : SampleUnitSphere<DIM>(rng));
       }
 
@@ -699,6 +722,7 @@ private:
   double EndWeight = 1.0;
   double FirstWeight = 1.0;
   const ScreenedGuide<DIM>* Guide = nullptr;
+  const PeakGuide<DIM>* Peak = nullptr;
   // Scratch (one estimator per thread): boundary values at the walk's end,
   // inner-walk values and source integrals, the running source sum, a sample.
   std::vector<double> BoundaryValue;

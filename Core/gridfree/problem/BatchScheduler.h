@@ -229,6 +229,7 @@ private:
       DerivativeWalkOnSpheres<DIM> estimator(*this->P.Shape, this->P.Walk,
         this->Request.Derivatives, volume.get(), this->P.Concentrated());
       estimator.SetGuide(this->P.Guide.get());
+      estimator.SetPeakGuide(this->P.Peak.get());
       run(estimator);
       return estimator.SourceSupportIsBounded();
     }
@@ -243,6 +244,7 @@ private:
     WalkOnSpheresEstimator<DIM> estimator(
       *this->P.Shape, this->P.Walk, volume.get(), this->P.Concentrated());
     estimator.SetGuide(this->P.Guide.get());
+    estimator.SetPeakGuide(this->P.Peak.get());
     run(estimator);
     return estimator.SourceSupportIsBounded();
   }

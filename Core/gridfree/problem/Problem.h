@@ -169,9 +169,22 @@ private:
         this->Guide = std::move(guide);
       }
     }
+    if constexpr (DIM == 3)
+    {
+      if (this->MayGuideTowardPeak())
+      {
+        auto peak = std::make_shared<const PeakGuide<DIM>>(
+          *this->Shape, this->Walk.Problem == Equation::ScreenedPoisson ? this->Walk.ScreeningCoefficient : 0.0);
+        if (peak->Found() && (this->Walk.PeakGuiding == PeakSteps::Guided ||
+                               peak->StandsOut() >= PeakGuide<DIM>::kStandsOut))
+        {
+          this->Peak = std::move(peak);
+        }
+      }
+    }
     // (Guided weights can exceed 1: the bounds below do not hold for them.)
     if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients &&
-      !this->Guide)
+      !this->Guide && !this->Peak)
     {
       const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
       std::vector<double> low(nc), high(nc), steadyLow(nc), steadyHigh(nc);
@@ -216,6 +229,31 @@ private:
     }
     return std::sqrt(this->Walk.ScreeningCoefficient) * this->Shape->Diagonal() >= 10.0 &&
       (!this->Sources || this->Sources->Empty());
+  }
+
+  // Steps toward the data's peak (PeakGuide.h): walk on spheres on a 3D
+  // mesh with Dirichlet data, for the Laplace, Poisson and screened
+  // equations, where no screened guide leads the steps. Automatic also
+  // leaves alone problems with sources (their answer comes from the volume
+  // too), screened problems whose steps were asked to be uniform, and
+  // (SetPolynomialShift) the data of a polynomial control variate, g − P,
+  // whose largest values are a fit's residuals rather than a peak.
+  bool MayGuideTowardPeak() const
+  {
+    const Equation e = this->Walk.Problem;
+    if (DIM != 3 || this->Mixed || this->Coefficients || !this->Shape->IsMesh() || this->Guide ||
+      this->Walk.PeakGuiding == PeakSteps::Uniform ||
+      !(e == Equation::Laplace || e == Equation::Poisson || e == Equation::ScreenedPoisson))
+    {
+      return false;
+    }
+    if (this->Walk.PeakGuiding == PeakSteps::Guided)
+    {
+      return true;
+    }
+    const bool sources = e != Equation::Laplace && this->Sources && !this->Sources->Empty();
+    return !sources &&
+      !(e == Equation::ScreenedPoisson && this->Walk.Screening == ScreenedSteps::Uniform);
   }
 
   // The range [low, high] of v for component c, where one screened walk (or
@@ -270,6 +308,8 @@ public:
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
   // Whether screened walks take guided steps (GuidesScreenedSteps).
   bool StepsAreGuided() const { return this->Guide != nullptr; }
+  // Whether steps lean toward the data's peak (MayGuideTowardPeak).
+  bool StepsLeanTowardPeak() const { return this->Peak != nullptr; }
   const std::shared_ptr<const Boundary<DIM>>& SharedBoundary() const { return this->Shape; }
   const WalkSettings& Settings() const { return this->Walk; }
   const SourceSet<DIM>* GetSources() const { return this->Sources.get(); }
@@ -293,6 +333,10 @@ public:
                                   "component");
     }
     this->Shift = std::move(shift);
+    if (this->Shift && this->Walk.PeakGuiding == PeakSteps::Automatic)
+    {
+      this->Peak.reset();
+    }
   }
   const PolynomialShift<DIM>* GetPolynomialShift() const { return this->Shift.get(); }
 
@@ -400,7 +444,7 @@ public:
     // for walks drawn toward large data), so their spread is no sign of an
     // unseen walk: only the values' own spread is judged.
     return CheckErrorBar(stats, layout.Value, this->SolutionComponents(),
-      this->Guide ? -1 : layout.Weight, this->SpreadPossible(counters, status),
+      this->Guide || this->Peak ? -1 : layout.Weight, this->SpreadPossible(counters, status),
       this->ErrorRule(counters),
       counters.ValueControlReach, counters.WeightReachOrOne());
   }
@@ -628,6 +672,7 @@ private:
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
   std::shared_ptr<const ScreenedGuide<DIM>> Guide; // guided screened steps, or null
+  std::shared_ptr<const PeakGuide<DIM>> Peak;      // steps toward the data's peak, or null
   bool ConstantData = false; // constant boundary values and no sources
   ErrorBarRule BoundedWalks;  // with the walk values' bounds, where known
 };

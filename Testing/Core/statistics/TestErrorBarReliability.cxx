@@ -143,6 +143,40 @@ void ExpectCalibratedUnflagged(const Outcome& o)
   ExpectUnflaggedAndCalibratedOnTheWhole(o);
   EXPECT_LT(o.MaxAbsZ, 5.0);
 }
+
+// An ellipsoid with axes 1, 0.7, 0.5 (a shape the calibration tests do not
+// use), and points inside it.
+const Vec3 kEllipsoidAxes(1.0, 0.7, 0.5);
+
+SimplexMesh<3> Ellipsoid()
+{
+  SimplexMesh<3> mesh = MakeIcosphere(4);
+  for (auto& v : mesh.Vertices)
+  {
+    v = v.cwiseProduct(kEllipsoidAxes);
+  }
+  return mesh;
+}
+
+std::vector<Vec3> PointsInEllipsoid(int count, std::uint32_t seed)
+{
+  std::vector<Vec3> points = RandomPointsInBall<3>(count, 0.9, seed);
+  for (auto& p : points)
+  {
+    p = p.cwiseProduct(kEllipsoidAxes);
+  }
+  return points;
+}
+
+// A mesh whose data are u itself, given exactly at the closest point.
+std::shared_ptr<const Boundary<3>> ExactData(const SimplexMesh<3>& mesh, const Field<3>& u)
+{
+  auto values = std::make_shared<CallableBoundaryValues<3>>(
+    [u](const Vec3& p, std::int64_t, double* out) { out[0] = u(p); }, 1);
+  auto boundary = std::make_shared<Boundary<3>>();
+  boundary->SetMesh(mesh.Vertices, mesh.Simplices, values);
+  return boundary;
+}
 } // namespace
 
 TEST(RunningStatistics, HigherSumsGiveTheVariancesStandardError)
@@ -537,17 +571,8 @@ TEST(ErrorBarReliability, SegmentAndRingSources)
 // point is flagged. The printed lines are Documentation/ErrorBars.md's rows.
 TEST(ErrorBarReliability, GuidedStepsCalibratedUnderStrongScreening)
 {
-  const Vec3 axes(1.0, 0.7, 0.5);
-  SimplexMesh<3> mesh = MakeIcosphere(4);
-  for (auto& v : mesh.Vertices)
-  {
-    v = v.cwiseProduct(axes);
-  }
-  std::vector<Vec3> points = RandomPointsInBall<3>(150, 0.9, 3);
-  for (auto& p : points)
-  {
-    p = p.cwiseProduct(axes);
-  }
+  const SimplexMesh<3> mesh = Ellipsoid();
+  const std::vector<Vec3> points = PointsInEllipsoid(150, 3);
   const Vec3 e = Vec3(1.0, 0.5, -0.3).normalized();
   const Vec3 pole(1.05, 0.1, 0.0);
   struct Case
@@ -561,10 +586,7 @@ TEST(ErrorBarReliability, GuidedStepsCalibratedUnderStrongScreening)
     const Field<3> u = test.Yukawa
       ? Field<3>([k, pole](const Vec3& x) { return std::exp(-k * (x - pole).norm()) / (x - pole).norm(); })
       : Field<3>([k, e](const Vec3& x) { return std::exp(k * e.dot(x) - 0.5 * k); });
-    auto values = std::make_shared<CallableBoundaryValues<3>>(
-      [u](const Vec3& p, std::int64_t, double* out) { out[0] = u(p); }, 1);
-    auto boundary = std::make_shared<Boundary<3>>();
-    boundary->SetMesh(mesh.Vertices, mesh.Simplices, values);
+    const auto boundary = ExactData(mesh, u);
     WalkSettings s = Screened(test.C, ScreenedSteps::Uniform);
     s.Epsilon = 1e-6; // the ε-shell's bias, about √c·ε relative, stays far below the errors
     std::printf(" c = %g, %s data, uniform steps, then guided:\n", test.C,
@@ -593,6 +615,44 @@ TEST(ErrorBarReliability, GuidedStepsCalibratedUnderStrongScreening)
   const Problem<2> problem(boundary, s);
   ASSERT_TRUE(problem.StepsAreGuided());
   ExpectCalibratedUnflagged(Solve<2>(problem, PointsInThreeLobes(), u2, 256, 9));
+}
+
+// A narrow peak of the data (PeakGuide.h): the Yukawa potential of a pole
+// 0.05 outside the tip of the ellipsoid, at c = 6.25 (mild: no
+// screened guide), and the Coulomb potential of the same pole for the
+// Laplace equation. Uniform steps rarely end on the peak, which carries much
+// of u far from it: their error bars are too small (mean z² well above 1).
+// Steps toward the peak (Automatic takes them: the largest |g| stands out
+// far above the mean) are calibrated at every point, none flagged; data whose
+// peak does not stand out (smooth data, or the same peak on a constant
+// larger than it) keep uniform steps.
+TEST(ErrorBarReliability, StepsTowardTheDataPeak)
+{
+  const SimplexMesh<3> mesh = Ellipsoid();
+  const std::vector<Vec3> points = PointsInEllipsoid(150, 5);
+  const Vec3 pole(1.05, 0.1, 0.0);
+  for (const double c : { 6.25, 0.0 })
+  {
+    const double k = std::sqrt(c);
+    const Field<3> u = [k, pole](const Vec3& x) {
+      return std::exp(-k * (x - pole).norm()) / (x - pole).norm();
+    };
+    WalkSettings s = c > 0.0 ? Screened(c) : WalkSettings{};
+    s.Epsilon = 1e-6;
+    s.PeakGuiding = PeakSteps::Uniform;
+    std::printf(" c = %g, a pole 0.05 outside the tip, uniform steps, then toward the peak:\n", c);
+    const Outcome uniform = Solve<3>(Problem<3>(ExactData(mesh, u), s), points, u, 256, 7);
+    EXPECT_GT(uniform.MeanZ2, 1.3) << "the case no longer shows the missing peak";
+    s.PeakGuiding = PeakSteps::Automatic;
+    const Problem<3> problem(ExactData(mesh, u), s);
+    ASSERT_TRUE(problem.StepsLeanTowardPeak());
+    ASSERT_FALSE(problem.StepsAreGuided());
+    ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 256, 7));
+  }
+  const Field<3> smooth = [](const Vec3& x) { return std::exp(x[0]); };
+  EXPECT_FALSE(Problem<3>(ExactData(mesh, smooth), Screened(1.0)).StepsLeanTowardPeak());
+  const Field<3> onAConstant = [pole](const Vec3& x) { return 10.0 + 1.0 / (x - pole).norm(); };
+  EXPECT_FALSE(Problem<3>(ExactData(mesh, onAConstant), WalkSettings{}).StepsLeanTowardPeak());
 }
 
 // The light-tails case's mild screening (e^x data, c = 1, points up to 0.15

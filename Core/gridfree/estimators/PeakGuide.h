@@ -1,0 +1,189 @@
+// Steps toward a narrow peak of the boundary data (WalkSettings::PeakSteps).
+//
+// Why: where the data has a narrow peak (a small hot spot, or the potential
+// of a charge just outside the boundary), much of u far from the peak
+// comes from the few walks that end on it. Uniform steps bring a point
+// only a handful of them in a few hundred walks, often none, and the
+// sample variance misses them: on an ellipsoid with the Yukawa potential
+// of a pole 0.05 outside its tip (c = 6.25), 300 points at 256 walks had
+// mean z² 2.9, every large |z| an estimate below the exact value.
+//
+// The step draws its landing point y on ∂B(x, R) from the defensive mixture
+//   q(y) = (1 − α)·U + α·V(y),   V(y) ∝ e^{−√c·s}/s,   s = |y − p|,
+// p the peak (the centroid of the primitive with the largest |g|), U the
+// uniform density, and multiplies the walk's weight by U/q(y) ≤ 1/(1 − α)
+// (the exact importance weight: E_q[(U/q)·u] = mean over ∂B of u). V is
+// the step's zero-variance density when u is the potential of a charge at
+// p, e^{−√c s}/s (1/s for c = 0), whatever the screening. On the sphere of
+// radius R about x, at d = |x − p| ≥ R from p (p lies on the boundary and
+// R is at most x's distance to it), the area element is (2πR/d)·s ds, so s
+// has density ∝ e^{−√c s} on [d − R, d + R] (uniform for c = 0), drawn by
+// inverting its distribution, the azimuth uniform, and
+//   V/U = 2Rd√c·e^{−√c (s − d + R)} / (s·(1 − e^{−2√c R}))   (d/s at c = 0).
+// Far from p (d ≫ R) V/U ≈ 1 and the step is nearly uniform; near it the
+// landing points gather toward p. Any p keeps the walk unbiased; a poor one
+// costs variance only.
+//
+// The weights vary with the path, so data with a large constant part gain
+// variance from them: Automatic guides only where the peak stands out
+// (the largest |g| at least kStandsOut times the area-weighted mean |g|).
+// 3D only: the 2D step would need its own density.
+#ifndef GRIDFREE_ESTIMATORS_PEAK_GUIDE_H
+#define GRIDFREE_ESTIMATORS_PEAK_GUIDE_H
+
+#include <gridfree/boundary/Boundary.h>
+#include <gridfree/math/Vector.h>
+#include <gridfree/sampling/Random.h>
+#include <gridfree/sampling/SphereSampling.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace gridfree
+{
+template <int DIM>
+class PeakGuide
+{
+public:
+  // The mixture's share α of landing points drawn toward the peak. On the
+  // ellipsoid's Coulomb peak at 256 walks, the RMS error over 300 points
+  // was 0.041 with uniform steps, 0.011 with α = 0.5, 0.0064 with 0.7 and
+  // 0.0044 with 0.8; with a constant 1 added to the data (a twentieth of
+  // the peak), 0.0057, 0.0091 and 0.014: the weights' spread then costs
+  // more. At 0.5, 9 of 300 points of a bumpy blob were flagged (their
+  // error bars right), 2 at 0.7.
+  static constexpr double Share = 0.7;
+  // How far the largest |g| must stand above the area-weighted mean |g|
+  // for Automatic to guide.
+  static constexpr double kStandsOut = 10.0;
+
+  /// The peak of a mesh boundary's data (each primitive's centroid, the
+  /// largest |g| over the components there) and how far it stands out;
+  /// Found() is false for other geometries and where every value is 0.
+  PeakGuide(const Boundary<DIM>& boundary, double c)
+    : SqrtC(std::sqrt(std::max(c, 0.0)))
+  {
+    static_assert(DIM == 3, "steps toward a peak are drawn in 3D only");
+    if (!boundary.IsMesh())
+    {
+      return;
+    }
+    const auto& vertices = boundary.MeshVertices();
+    const auto& primitives = boundary.MeshPrimitives();
+    std::vector<double> value(static_cast<std::size_t>(std::max(1, boundary.Components())));
+    double largest = 0.0, weighted = 0.0, area = 0.0;
+    for (std::size_t i = 0; i < primitives.size(); ++i)
+    {
+      const Vec<DIM> a = vertices[static_cast<std::size_t>(primitives[i][0])];
+      const Vec<DIM> b = vertices[static_cast<std::size_t>(primitives[i][1])];
+      const Vec<DIM> c3 = vertices[static_cast<std::size_t>(primitives[i][2])];
+      ClosestPointResult<DIM> hit;
+      hit.point = (a + b + c3) / 3.0;
+      hit.primitive = static_cast<std::int64_t>(i);
+      hit.barycentric = Vec<DIM>::Constant(1.0 / 3.0);
+      hit.distance = 0.0;
+      boundary.Evaluate(hit, value.data());
+      double here = 0.0;
+      for (double v : value)
+      {
+        here = std::max(here, std::abs(v));
+      }
+      if (!std::isfinite(here))
+      {
+        continue;
+      }
+      const double size = 0.5 * (b - a).cross(c3 - a).norm();
+      weighted += size * here;
+      area += size;
+      if (here > largest)
+      {
+        largest = here;
+        this->Peak = hit.point;
+      }
+    }
+    this->HasPeak = largest > 0.0;
+    this->Prominence = this->HasPeak && weighted > 0.0 ? largest * area / weighted : 0.0;
+  }
+
+  bool Found() const { return this->HasPeak; }
+  const Vec<DIM>& PeakPoint() const { return this->Peak; }
+  /// The largest |g| over the area-weighted mean |g|.
+  double StandsOut() const { return this->Prominence; }
+
+  /// The most a step's factor can be: 1/(1 − α).
+  static double LargestFactor() { return 1.0 / (1.0 - Share); }
+
+  /// A step of radius R from x: its unit direction, and the factor U/q
+  /// its weight takes.
+  Vec<DIM> Step(const Vec<DIM>& x, double radius, RandomStream& rng, double& factor) const
+  {
+    const Vec<DIM> toPeak = this->Peak - x;
+    const double d = toPeak.norm();
+    // (R ≤ d always for a ball inside the boundary; a relaxed step that is
+    // not, or a walker on the peak, steps uniformly with factor 1.)
+    if (!(d > radius) || !(radius > 0.0))
+    {
+      factor = 1.0;
+      return SampleUnitSphere<DIM>(rng);
+    }
+    const Vec<DIM> e = toPeak / d;
+    Vec<DIM> omega;
+    if (rng.NextDouble() < Share)
+    {
+      const double s = this->SampleDistance(d, radius, rng.NextDouble());
+      const double cosine = std::clamp((radius * radius + d * d - s * s) / (2.0 * radius * d), -1.0, 1.0);
+      const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
+      const double phi = 2.0 * M_PI * rng.NextDouble();
+      const Vec<DIM> t1 = e.unitOrthogonal();
+      const Vec<DIM> t2 = e.cross(t1);
+      omega = cosine * e + sine * (std::cos(phi) * t1 + std::sin(phi) * t2);
+    }
+    else
+    {
+      omega = SampleUnitSphere<DIM>(rng);
+    }
+    const double s = (x + radius * omega - this->Peak).norm();
+    factor = 1.0 / ((1.0 - Share) + Share * this->DensityOverUniform(d, radius, s));
+    return omega;
+  }
+
+  /// V/U at a landing point s from the peak (a sphere of radius R at d).
+  double DensityOverUniform(double d, double radius, double s) const
+  {
+    const double span = 2.0 * radius * this->SqrtC;
+    if (!(s > 0.0))
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    if (span < 1e-8)
+    {
+      return d / s;
+    }
+    return 2.0 * radius * d * this->SqrtC * std::exp(-this->SqrtC * (s - (d - radius))) /
+      (s * -std::expm1(-span));
+  }
+
+private:
+  // s on [d − R, d + R] with density ∝ e^{−√c s}, from a uniform u.
+  double SampleDistance(double d, double radius, double u) const
+  {
+    const double near = d - radius;
+    const double span = 2.0 * radius * this->SqrtC;
+    if (span < 1e-8)
+    {
+      return near + 2.0 * radius * u;
+    }
+    return std::min(d + radius, near - std::log1p(u * std::expm1(-span)) / this->SqrtC);
+  }
+
+  double SqrtC;
+  Vec<DIM> Peak = Vec<DIM>::Zero();
+  bool HasPeak = false;
+  double Prominence = 0.0;
+};
+} // namespace gridfree
+
+#endif
