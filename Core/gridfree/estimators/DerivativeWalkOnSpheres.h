@@ -270,8 +270,14 @@ public:
   const Continuation& Continuations() const { return this->Walker; }
   // Guided screened steps for the walks after the first ball (ScreenedGuide.h).
   void SetGuide(const ScreenedGuide<DIM>* guide) { this->Walker.SetGuide(guide); }
-  // Steps toward the data's peak for those walks (PeakGuide.h).
-  void SetPeakGuide(const PeakGuide<DIM>* guide) { this->Walker.SetPeakGuide(guide); }
+  // Steps toward the data's peak (PeakGuide.h): the first ball's landing
+  // point, with its weight U/q on every term that depends on it, and the
+  // walks after it.
+  void SetPeakGuide(const PeakGuide<DIM>* guide)
+  {
+    this->FirstBallPeak = guide;
+    this->Walker.SetPeakGuide(guide);
+  }
 
   // The control variates of a walk use the running means of the walks
   // before it in its block of kControlBlock walks (walks 0–255, 256–511, …),
@@ -481,7 +487,21 @@ private:
             hessian ? this->HessianSource.data() : nullptr, this->SourceSample.data());
         }
 
-        const Vec<DIM> firstNu = SampleUnitSphere<DIM>(rng);
+        // The first landing point: uniform, or toward the data's peak with
+        // the weight `lean` = U/q on every term that depends on it (each
+        // stays an unbiased mean over the sphere; m̄ and b̄·ν, constants
+        // or of mean 0 over it, keep their roles). A pair shares it.
+        double lean = 1.0;
+        Vec<DIM> firstNu;
+        if constexpr (DIM == 3)
+        {
+          firstNu = this->FirstBallPeak ? this->FirstBallPeak->Step(centre, radius, rng, lean)
+                                        : SampleUnitSphere<DIM>(rng);
+        }
+        else
+        {
+          firstNu = SampleUnitSphere<DIM>(rng);
+        }
         const RandomStream replay = rng; // the pair's second walk replays the first's numbers
         const int sides = this->Request.AntitheticPairs ? 2 : 1;
         for (int side = 0; side < sides; ++side)
@@ -506,7 +526,7 @@ private:
             {
               // The value is C·(tail − …): the first ball's weight times the
               // tail walk's, so no walk from this point keeps more than C.
-              this->Sample[l.Weight] = weightC * this->Walker.LastWeight();
+              this->Sample[l.Weight] = weightC * this->Walker.LastWeight() * lean;
               counters.WeightReach = std::max(counters.WeightReach, weightC);
             }
           }
@@ -515,8 +535,8 @@ private:
 
           for (int c = 0; c < nc; ++c)
           {
-            const double tail = this->Tail[c];
-            const double h = biharmonic ? this->Tail[nc + c] : 0.0;
+            const double tail = this->Tail[c] * lean;
+            const double h = biharmonic ? this->Tail[nc + c] * lean : 0.0;
             double mBar = controls ? this->Pilot[c] : 0.0;
             Vec<DIM> bBar = Vec<DIM>::Zero();
             if (useControls)
@@ -527,12 +547,12 @@ private:
                 bBar[i] = linearScale * history.GetMean(l.Gradient + c * DIM + i);
               }
             }
-            const double linear = bBar.dot(nu);
+            const double linear = bBar.dot(nu) * lean;
 
             if (status == DerivativeStatus::Interior)
             {
               counters.ValueControlReach =
-                std::max(counters.ValueControlReach, weightC * bBar.norm());
+                std::max(counters.ValueControlReach, weightC * bBar.norm() * lean);
               double value = weightC * (tail - linear) - this->ValueSource[c];
               if (biharmonic)
               {
@@ -542,7 +562,7 @@ private:
               this->Sample[l.Value + c] = value;
             }
 
-            Vec<DIM> gradient = kappa * (tail - mBar) * nu;
+            Vec<DIM> gradient = kappa * (tail - mBar * lean) * nu;
             for (int i = 0; i < DIM; ++i)
             {
               gradient[i] -= this->GradientSource[c * DIM + i];
@@ -558,7 +578,7 @@ private:
 
             if (hessian)
             {
-              Mat<DIM> hess = (tail - mBar - linear) * (alpha * nuNu + beta * identity) +
+              Mat<DIM> hess = (tail - mBar * lean - linear) * (alpha * nuNu + beta * identity) +
                 mBar * kernelMean * identity;
               if (biharmonic)
               {
@@ -628,6 +648,7 @@ private:
   WalkSettings Settings;
   DerivativeRequest Request;
   Continuation Walker;
+  const PeakGuide<DIM>* FirstBallPeak = nullptr; // the first landing point's guide, or null
   int Nc;
   SourceIntegrator<DIM> Sources;
   SourceDerivativeIntegrator<DIM> DerivativeSources;

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <random>
 #include <vector>
 
@@ -648,6 +649,54 @@ TEST(ErrorBarReliability, StepsTowardTheDataPeak)
     ASSERT_TRUE(problem.StepsLeanTowardPeak());
     ASSERT_FALSE(problem.StepsAreGuided());
     ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 256, 7));
+  }
+  // The gradient (control variates on): its first ball's landing point
+  // leans toward the peak too, weighted on every term that depends on it.
+  {
+    const double k = 2.5;
+    const Field<3> u = [k, pole](const Vec3& x) {
+      return std::exp(-k * (x - pole).norm()) / (x - pole).norm();
+    };
+    WalkSettings s = Screened(k * k);
+    s.Epsilon = 1e-6;
+    const Problem<3> problem(ExactData(mesh, u), s);
+    ASSERT_TRUE(problem.StepsLeanTowardPeak());
+    BatchRequest request;
+    request.WalksPerPoint = 256;
+    request.Seed = 7;
+    request.Derivatives.Gradient = true;
+    request.Derivatives.ControlVariates = true;
+    const SampleLayout layout = problem.Layout(request);
+    std::vector<double> z(3 * points.size(), 0.0);
+    int flagged = 0;
+    std::mutex mutex;
+    problem.Estimate(AsProbe<3>(points), request,
+      [&](std::size_t i, const RunningStatistics& stats, const WalkCounters& counters,
+        DerivativeStatus status) {
+        const Vec3 d = points[i] - pole;
+        const double r = d.norm();
+        const Vec3 exact = (-k * r - 1.0) * std::exp(-k * r) / (r * r * r) * d;
+        for (int j = 0; j < 3; ++j)
+        {
+          z[3 * i + j] = (stats.GetMean(layout.Gradient + j) - exact[j]) /
+            std::sqrt(stats.VarianceOfMean(layout.Gradient + j));
+        }
+        const bool reliable = problem.ErrorBar(stats, counters, layout, status).Reliable;
+        std::lock_guard<std::mutex> lock(mutex);
+        flagged += reliable ? 0 : 1;
+      });
+    double meanZ2 = 0.0, largest = 0.0;
+    for (double v : z)
+    {
+      meanZ2 += v * v / z.size();
+      largest = std::max(largest, std::abs(v));
+    }
+    std::printf("  gradient: %zu components, max |z| %.1f, mean z^2 %.2f, flagged %d\n", z.size(),
+      largest, meanZ2, flagged);
+    EXPECT_LT(largest, 5.0);
+    EXPECT_GT(meanZ2, 0.7);
+    EXPECT_LT(meanZ2, 1.4);
+    EXPECT_EQ(flagged, 0);
   }
   const Field<3> smooth = [](const Vec3& x) { return std::exp(x[0]); };
   EXPECT_FALSE(Problem<3>(ExactData(mesh, smooth), Screened(1.0)).StepsLeanTowardPeak());
