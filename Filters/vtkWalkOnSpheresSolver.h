@@ -504,7 +504,8 @@ public:
    * boundary data (a small hot spot, the potential of a charge just outside
    * the boundary): PEAK_STEPS_GUIDED draws 70% of the landing points with
    * density proportional to e^{−√c·s}/s, s the distance to the data's
-   * largest |g| (1/s for the Laplace and Poisson equations), and reweights
+   * largest |g| or to one of up to three more peaks at least a quarter as
+   * high (1/s for the Laplace and Poisson equations), and reweights
    * them (unbiased). Uniform steps rarely end on such a peak, which carries
    * much of the answer far from it, and their error bars come out too
    * small. PEAK_STEPS_AUTOMATIC (the default) leans where the largest |g| is

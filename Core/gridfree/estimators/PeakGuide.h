@@ -9,20 +9,23 @@
 // mean z² 2.9, every large |z| an estimate below the exact value.
 //
 // The step draws its landing point y on ∂B(x, R) from the defensive mixture
-//   q(y) = (1 − α)·U + α·V(y),   V(y) ∝ e^{−√c·s}/s,   s = |y − p|,
-// p the peak (the centroid of the primitive with the largest |g|), U the
-// uniform density, and multiplies the walk's weight by U/q(y) ≤ 1/(1 − α)
+//   q(y) = (1 − α)·U + α·Σ_j w_j·V_j(y),   V_j(y) ∝ e^{−√c·s_j}/s_j,
+// s_j = |y − p_j|, p_j the peaks (the centroid of the primitive with the
+// largest |g|, and up to three more at least a quarter as high elsewhere),
+// w_j their shares by height, U the uniform density, and multiplies the
+// walk's weight by U/q(y) ≤ 1/(1 − α)
 // (the exact importance weight: E_q[(U/q)·u] = mean over ∂B of u). V is
 // the step's zero-variance density when u is the potential of a charge at
-// p, e^{−√c s}/s (1/s for c = 0), whatever the screening. On the sphere of
-// radius R about x, at d = |x − p| ≥ R from p (p lies on the boundary and
+// p_j, e^{−√c s}/s (1/s for c = 0), whatever the screening. On the sphere of
+// radius R about x, at d = |x − p| ≥ R from a peak p (p lies on the boundary and
 // R is at most x's distance to it), the area element is (2πR/d)·s ds, so s
 // has density ∝ e^{−√c s} on [d − R, d + R] (uniform for c = 0), drawn by
 // inverting its distribution, the azimuth uniform, and
 //   V/U = 2Rd√c·e^{−√c (s − d + R)} / (s·(1 − e^{−2√c R}))   (d/s at c = 0).
-// Far from p (d ≫ R) V/U ≈ 1 and the step is nearly uniform; near it the
-// landing points gather toward p. Any p keeps the walk unbiased; a poor one
-// costs variance only.
+// Far from the peaks (d ≫ R) V/U ≈ 1 and the step is nearly uniform; near
+// one the landing points gather toward it. Any peaks keep the walk
+// unbiased; a poor choice costs variance only, and leaving out a peak that
+// matters makes the walks reach it more rarely than uniform ones.
 //
 // The weights vary with the path, so data with a large constant part gain
 // variance from them: Automatic guides only where the peak stands out
@@ -60,9 +63,19 @@ public:
   // for Automatic to guide.
   static constexpr double kStandsOut = 10.0;
 
-  /// The peak of a mesh boundary's data (each primitive's centroid, the
-  /// largest |g| over the components there) and how far it stands out;
-  /// Found() is false for other geometries and where every value is 0.
+  // At most this many peaks share the mixture. A further peak is taken
+  // where the data rise again to a quarter of the first peak's height,
+  // beyond the peaks found so far (each covers 4 times the distance at
+  // which its data fall to half: a charge's own shoulder there is a seventh
+  // of its height). With two
+  // poles and the steps leaning toward one only, the walks reached the
+  // other even more rarely than uniform ones: mean z² 3.27 and 8 misses of
+  // 300 against 1.79 and 1 with uniform steps.
+  static constexpr int kMostPeaks = 4;
+
+  /// The peaks of a mesh boundary's data (primitives' centroids, the
+  /// largest |g| over the components there) and how far the first stands
+  /// out; Found() is false for other geometries and where every value is 0.
   PeakGuide(const Boundary<DIM>& boundary, double c)
     : SqrtC(std::sqrt(std::max(c, 0.0)))
   {
@@ -74,7 +87,9 @@ public:
     const auto& vertices = boundary.MeshVertices();
     const auto& primitives = boundary.MeshPrimitives();
     std::vector<double> value(static_cast<std::size_t>(std::max(1, boundary.Components())));
-    double largest = 0.0, weighted = 0.0, area = 0.0;
+    std::vector<Vec<DIM>> centroid(primitives.size());
+    std::vector<double> height(primitives.size(), 0.0);
+    double weighted = 0.0, area = 0.0;
     for (std::size_t i = 0; i < primitives.size(); ++i)
     {
       const Vec<DIM> a = vertices[static_cast<std::size_t>(primitives[i][0])];
@@ -91,25 +106,65 @@ public:
       {
         here = std::max(here, std::abs(v));
       }
+      centroid[i] = hit.point;
       if (!std::isfinite(here))
       {
         continue;
       }
+      height[i] = here;
       const double size = 0.5 * (b - a).cross(c3 - a).norm();
       weighted += size * here;
       area += size;
-      if (here > largest)
-      {
-        largest = here;
-        this->Peak = hit.point;
-      }
     }
-    this->HasPeak = largest > 0.0;
-    this->Prominence = this->HasPeak && weighted > 0.0 ? largest * area / weighted : 0.0;
+    const double mean = area > 0.0 ? weighted / area : 0.0;
+    // Greedy: the highest primitive not covered by a peak found so far.
+    std::vector<double> reach; // each peak's covered distance
+    double total = 0.0;
+    while (static_cast<int>(this->Peaks.size()) < kMostPeaks)
+    {
+      std::size_t best = primitives.size();
+      for (std::size_t i = 0; i < primitives.size(); ++i)
+      {
+        bool covered = false;
+        for (std::size_t j = 0; j < this->Peaks.size() && !covered; ++j)
+        {
+          covered = (centroid[i] - this->Peaks[j]).norm() <= reach[j];
+        }
+        if (!covered && height[i] > 0.0 && (best == primitives.size() || height[i] > height[best]))
+        {
+          best = i;
+        }
+      }
+      if (best == primitives.size() ||
+        (!this->Peaks.empty() && height[best] < 0.25 * this->Height.front()))
+      {
+        break;
+      }
+      // Where the data first fall to half the peak's height.
+      double half = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < primitives.size(); ++i)
+      {
+        if (height[i] < 0.5 * height[best])
+        {
+          half = std::min(half, (centroid[i] - centroid[best]).norm());
+        }
+      }
+      this->Peaks.push_back(centroid[best]);
+      this->Height.push_back(height[best]);
+      reach.push_back(4.0 * half);
+      total += height[best];
+    }
+    for (double& h : this->Height)
+    {
+      h /= total; // the peaks' shares of the guided landing points
+    }
+    this->Prominence = !this->Peaks.empty() && mean > 0.0 ? height[this->FirstIndex(height)] / mean : 0.0;
   }
 
-  bool Found() const { return this->HasPeak; }
-  const Vec<DIM>& PeakPoint() const { return this->Peak; }
+  bool Found() const { return !this->Peaks.empty(); }
+  /// The peaks, highest first.
+  const std::vector<Vec<DIM>>& PeakPoints() const { return this->Peaks; }
+  const Vec<DIM>& PeakPoint() const { return this->Peaks.front(); }
   /// The largest |g| over the area-weighted mean |g|.
   double StandsOut() const { return this->Prominence; }
 
@@ -117,22 +172,36 @@ public:
   static double LargestFactor() { return 1.0 / (1.0 - Share); }
 
   /// A step of radius R from x: its unit direction, and the factor U/q
-  /// its weight takes.
+  /// its weight takes, q = (1 − α)·U + α·Σ_j w_j·V_j (w_j the peaks' shares,
+  /// by height).
   Vec<DIM> Step(const Vec<DIM>& x, double radius, RandomStream& rng, double& factor) const
   {
-    const Vec<DIM> toPeak = this->Peak - x;
-    const double d = toPeak.norm();
     // (R ≤ d always for a ball inside the boundary; a relaxed step that is
-    // not, or a walker on the peak, steps uniformly with factor 1.)
-    if (!(d > radius) || !(radius > 0.0))
+    // not, or a walker on a peak, steps uniformly with factor 1.)
+    for (const Vec<DIM>& p : this->Peaks)
     {
-      factor = 1.0;
-      return SampleUnitSphere<DIM>(rng);
+      if (!((p - x).norm() > radius) || !(radius > 0.0))
+      {
+        factor = 1.0;
+        return SampleUnitSphere<DIM>(rng);
+      }
     }
-    const Vec<DIM> e = toPeak / d;
     Vec<DIM> omega;
     if (rng.NextDouble() < Share)
     {
+      std::size_t j = 0;
+      if (this->Peaks.size() > 1)
+      {
+        double pick = rng.NextDouble();
+        while (j + 1 < this->Peaks.size() && pick >= this->Height[j])
+        {
+          pick -= this->Height[j];
+          ++j;
+        }
+      }
+      const Vec<DIM> toPeak = this->Peaks[j] - x;
+      const double d = toPeak.norm();
+      const Vec<DIM> e = toPeak / d;
       const double s = this->SampleDistance(d, radius, rng.NextDouble());
       const double cosine = std::clamp((radius * radius + d * d - s * s) / (2.0 * radius * d), -1.0, 1.0);
       const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
@@ -145,12 +214,18 @@ public:
     {
       omega = SampleUnitSphere<DIM>(rng);
     }
-    const double s = (x + radius * omega - this->Peak).norm();
-    factor = 1.0 / ((1.0 - Share) + Share * this->DensityOverUniform(d, radius, s));
+    const Vec<DIM> y = x + radius * omega;
+    double guided = 0.0;
+    for (std::size_t j = 0; j < this->Peaks.size(); ++j)
+    {
+      guided += this->Height[j] *
+        this->DensityOverUniform((this->Peaks[j] - x).norm(), radius, (y - this->Peaks[j]).norm());
+    }
+    factor = 1.0 / ((1.0 - Share) + Share * guided);
     return omega;
   }
 
-  /// V/U at a landing point s from the peak (a sphere of radius R at d).
+  /// V/U at a landing point s from a peak (a sphere of radius R at d).
   double DensityOverUniform(double d, double radius, double s) const
   {
     const double span = 2.0 * radius * this->SqrtC;
@@ -179,9 +254,15 @@ private:
     return std::min(d + radius, near - std::log1p(u * std::expm1(-span)) / this->SqrtC);
   }
 
+  static std::size_t FirstIndex(const std::vector<double>& height)
+  {
+    return static_cast<std::size_t>(
+      std::max_element(height.begin(), height.end()) - height.begin());
+  }
+
   double SqrtC;
-  Vec<DIM> Peak = Vec<DIM>::Zero();
-  bool HasPeak = false;
+  std::vector<Vec<DIM>> Peaks;
+  std::vector<double> Height; // after construction: each peak's share
   double Prominence = 0.0;
 };
 } // namespace gridfree
