@@ -66,11 +66,11 @@ public:
   // At most this many peaks share the mixture. A further peak is taken
   // where the data rise again to a quarter of the first peak's height,
   // beyond the peaks found so far (each covers 4 times the distance at
-  // which its data fall to half: a charge's own shoulder there is a seventh
-  // of its height). With two
-  // poles and the steps leaning toward one only, the walks reached the
-  // other even more rarely than uniform ones: mean z² 3.27 and 8 misses of
-  // 300 against 1.79 and 1 with uniform steps.
+  // which its data fall to half: a charge's own shoulder there is a
+  // seventh of its height). With two poles and the steps leaning toward
+  // one only, the walks reached the other even more rarely than uniform
+  // ones: mean z² 3.27 and 8 misses of 300 against 1.79 and 1 with
+  // uniform steps.
   static constexpr int kMostPeaks = 4;
 
   /// The peaks of a mesh boundary's data (primitives' centroids, the
