@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <string>
 
 namespace gridfree
 {
@@ -93,10 +94,16 @@ void WarnAboutUnreliableErrorBars(
   }
   if (f.OneWalkSpread > 0)
   {
+    const bool walkedOn = f.WalkOnWhereUnreliable > 1 && f.Target <= 0.0;
     why << " " << f.OneWalkSpread
         << " of them because all their walks, or all but one, gave the same value although "
-           "they could have given others: raise Walks Per Point, or set a target standard "
-           "error, which walks on at such points.";
+           "they could have given others"
+        << (walkedOn ? " (even after walking on up to " +
+                std::to_string(f.WalkOnWhereUnreliable) +
+                " times Walks Per Point: Walk On Where Unreliable)"
+                     : std::string())
+        << ": raise Walks Per Point, or set a target standard error, which walks on at such "
+           "points.";
   }
   GRIDFREE_WARN(<< f.UnreliableErrorBars << " of " << f.Points << " probe points have "
                 << "error bars that cannot be trusted (" << f.Name

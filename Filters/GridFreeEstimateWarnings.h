@@ -40,6 +40,10 @@ struct BatchFindings
   std::uint64_t PointsOutsideShift = 0;
   std::int64_t PointsShortOfTarget = 0;
   std::uint64_t UnreliableErrorBars = 0;
+  // Fixed-count mode: how far unreliable points may walk on (a factor of
+  // WalksPerPoint; 1: not at all), and how many did.
+  int WalkOnWhereUnreliable = 1;
+  std::uint64_t PointsWalkedOn = 0;
   std::int64_t UnevenWeights = 0;
   std::int64_t OneWalkSpread = 0;
   // Finite probe points whose results are NaN anyway (overflowed walks).

@@ -301,6 +301,7 @@ bool MakeBatchRequest(vtkAlgorithm* self, const SolveSettings& s, const BuiltPro
   batch.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(s.Seed));
   batch.Threads = s.NumberOfThreads;
   batch.Derivatives = derivatives;
+  batch.WalkOnWhereUnreliable = s.WalkOnWhereUnreliable;
   if (!(s.TargetStandardError > 0.0))
   {
     return true;
@@ -404,6 +405,10 @@ void AddSummaryFields(vtkFieldData* fd, const BatchFindings& f, bool mixed, std:
   AddFieldValue(
     fd, "EscapedWalkFraction", walks > 0.0 ? static_cast<double>(f.Escaped) / walks : 0.0);
   AddFieldValue(fd, "UnreliableErrorBars", static_cast<double>(f.UnreliableErrorBars));
+  if (f.WalkOnWhereUnreliable > 1 && f.Target <= 0.0)
+  {
+    AddFieldValue(fd, "PointsWalkedOnForReliability", static_cast<double>(f.PointsWalkedOn));
+  }
   if (mixed)
   {
     AddFieldValue(fd, "BackFaceHits", static_cast<double>(f.BackFaceHits));
@@ -760,7 +765,9 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   result.PointsFinished = static_cast<std::int64_t>(summary.PointsFinished);
   result.PointsWithoutWalks = static_cast<std::int64_t>(summary.PointsWithoutWalks);
   result.UnreliableErrorBars = static_cast<std::int64_t>(summary.UnreliableErrorBars);
-  arrays.Finish(target > 0.0 || !summary.Completed || cached.Active);
+  // WalkCount where the points' counts differ.
+  arrays.Finish(
+    target > 0.0 || !summary.Completed || cached.Active || summary.PointsWalkedOn > 0);
 
   BatchFindings found;
   found.Name = name;
@@ -779,6 +786,8 @@ bool Estimate(vtkAlgorithm* self, const BuiltProblem& built, const SolveSettings
   found.BackFaceHits = summary.BackFaceHits;
   found.PointsOutsideShift = summary.PointsOutsideShift;
   found.UnreliableErrorBars = summary.UnreliableErrorBars;
+  found.WalkOnWhereUnreliable = batch.WalkOnWhereUnreliable;
+  found.PointsWalkedOn = summary.PointsWalkedOn;
   found.UnevenWeights = arrays.UnevenWeights();
   found.OneWalkSpread = arrays.OneWalkSpread();
   found.Walks = summary.Totals.Walks;

@@ -50,6 +50,7 @@ inline void PrintProblemSettings(std::ostream& os, vtkIndent indent, const Solve
   os << indent << "NestedWalks: " << s.NestedWalks << "\n";
   os << indent << "TargetStandardError: " << s.TargetStandardError << "\n";
   os << indent << "TargetErrorIsRelative: " << onOff(s.TargetErrorIsRelative) << "\n";
+  os << indent << "WalkOnWhereUnreliable: " << s.WalkOnWhereUnreliable << "\n";
   os << indent << "ComputeGradient: " << onOff(s.ComputeGradient) << "\n";
   os << indent << "ComputeHessian: " << onOff(s.ComputeHessian) << "\n";
   os << indent << "ControlVariates: " << onOff(s.ControlVariates) << "\n";

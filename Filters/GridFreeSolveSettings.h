@@ -88,6 +88,11 @@ struct SolveSettings
   // TargetErrorIsRelative.
   double TargetStandardError = 0.0;
   bool TargetErrorIsRelative = false;
+  // Fixed-count mode: points whose error bar is not reliable walk on, up to
+  // this many times WalksPerPoint (BatchRequest::WalkOnWhereUnreliable; 1:
+  // none). 1 here, 4 in the solver, which sets it in its constructor (the
+  // other filters have no such property and keep their cost).
+  int WalkOnWhereUnreliable = 1;
   double Epsilon = 1e-4;
   bool EpsilonIsRelative = true;
   int MaxSteps = 10000;

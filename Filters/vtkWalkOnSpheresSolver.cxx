@@ -57,6 +57,9 @@ vtkWalkOnSpheresSolver::vtkWalkOnSpheresSolver()
   // small (SetNearBoundarySplitting); the application filters, which have
   // no such property, keep SolveSettings' default, off.
   this->GetSettings().NearBoundarySplitting = true;
+  // A flagged point walks on before it is announced as unreliable
+  // (SetWalkOnWhereUnreliable); the application filters keep their cost.
+  this->GetSettings().WalkOnWhereUnreliable = 4;
 }
 
 //------------------------------------------------------------------------------
@@ -133,6 +136,38 @@ void vtkWalkOnSpheresSolver::SetTargetErrorIsRelative(bool relative)
     this->GetSettings().TargetErrorIsRelative = relative;
     this->ModifiedKeepingSums();
   }
+}
+
+// A larger factor only adds walks to flagged points: the kept sums continue,
+// as one solve with it would. A smaller one solves afresh: kept points may
+// hold more walks than it allows.
+void vtkWalkOnSpheresSolver::SetWalkOnWhereUnreliable(int factor)
+{
+  if (factor < 1 || factor > 64)
+  {
+    vtkErrorMacro(<< "WalkOnWhereUnreliable must lie in [1, 64] (a factor of WalksPerPoint; 1 "
+                     "turns walking on off), not "
+                  << factor << "; it stays " << this->GetSettings().WalkOnWhereUnreliable << ".");
+    return;
+  }
+  const int before = this->GetSettings().WalkOnWhereUnreliable;
+  if (factor != before)
+  {
+    this->GetSettings().WalkOnWhereUnreliable = factor;
+    if (factor > before)
+    {
+      this->ModifiedKeepingSums();
+    }
+    else
+    {
+      this->Modified();
+    }
+  }
+}
+
+int vtkWalkOnSpheresSolver::GetWalkOnWhereUnreliable()
+{
+  return this->GetSettings().WalkOnWhereUnreliable;
 }
 
 double vtkWalkOnSpheresSolver::GetTargetStandardError()

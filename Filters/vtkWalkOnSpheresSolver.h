@@ -683,6 +683,31 @@ public:
 
   ///@{
   /**
+   * Walking on where an error bar cannot be trusted (fixed-count mode; a
+   * factor of WalksPerPoint, default 4, 1 turns it off, at most 64): a probe
+   * point whose error bar is not reliable after WalksPerPoint walks (array
+   * <name>_VarianceReliable) walks on to 2, 4, ... times WalksPerPoint,
+   * checked at each, until it is reliable or holds this many times
+   * WalksPerPoint. The commonest false alarm, a spread made by a single
+   * walk, settles this way, and so does a too small bar the single walk
+   * hid: more walks bring the rare walks that were due. Points flagged for
+   * uneven screening weights walk on only where more walks could clear
+   * them (the weights do not even out with walks). Only flagged points walk
+   * more (array WalkCount, present when counts differ; field
+   * PointsWalkedOnForReliability counts them); the decision uses only the
+   * point's own walks, so the result is the same for any thread count.
+   * Refinement stays bit for bit that of one solve when WalksPerPoint
+   * doubles (Refine), or grows by any power of 2. Target-error mode walks
+   * on at such points anyway and ignores this. Raising it keeps the
+   * running sums (the points still flagged walk on); lowering it solves
+   * afresh.
+   */
+  virtual void SetWalkOnWhereUnreliable(int factor); // out of [1, 64] is an error
+  int GetWalkOnWhereUnreliable();
+  ///@}
+
+  ///@{
+  /**
    * Time budget in seconds (default 0, off). When positive, the solve runs
    * in rounds of 128, 256, 512, ... walks per point up to WalksPerPoint,
    * each continuing from the running sums of the one before, and stops

@@ -258,7 +258,12 @@ def main():
         seconds = time.perf_counter() - start
         result = solver.GetOutput()
         print(f"points: {result.GetNumberOfPoints()}")
-        print(f"walks: {solver.GetLastNumberOfWalks()} ({args.walks} per point)")
+        # Points whose error bar could not be trusted after args.walks walk on
+        # (Walk On Where Unreliable): they add a few walks to the total.
+        walked_on = result.GetFieldData().GetArray("PointsWalkedOnForReliability")
+        walked_on = int(walked_on.GetValue(0)) if walked_on else 0
+        print(f"walks: {solver.GetLastNumberOfWalks()} ({args.walks} per point, "
+              f"more at {walked_on} points with unreliable error bars)")
         print(f"seconds: {seconds:.2f}")
         sys.stdout.flush()
         if args.slice:

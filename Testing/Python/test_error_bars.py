@@ -1,8 +1,9 @@
 """Error bars users can trust, through the solver's VTK API: points whose
 error bar cannot be trusted are flagged in T_VarianceReliable, counted (the
 field UnreliableErrorBars, GetLastUnreliableErrorBars) and announced once;
-a light-tailed problem gives none; target-error mode walks on at flagged
-points (Core.ErrorBarReliability.* has the held-out cases and the rule)."""
+a light-tailed problem gives none; fixed-count solves (by default) and
+target-error mode walk on at flagged points (Core.ErrorBarReliability.* has
+the held-out cases and the rule)."""
 import math
 import os
 import sys
@@ -141,6 +142,8 @@ def test_jumping_data_with_few_walks_is_flagged_where_the_walks_agree():
     # just one walk on the far side.
     boundary = circle_boundary(lambda x, y, z: 1.0 if y >= 0.0 else -1.0)
     solver = solver_for(boundary, DISK_LINE, 32)
+    # No walking on here (the default walks on at flagged points: below).
+    solver.SetWalkOnWhereUnreliable(1)
     catcher = MessageCatcher(solver)
     solver.Update()
     output = solver.GetOutput()
@@ -159,6 +162,47 @@ def test_jumping_data_with_few_walks_is_flagged_where_the_walks_agree():
     text = catcher.warning_text()
     assert "all their walks, or all but one, gave the same value" in text
     assert "%d of 100 probe points" % reliable.count(0) in text
+
+
+def test_flagged_points_walk_on_by_default():
+    # The same case with the default Walk On Where Unreliable (4): only the
+    # flagged points walk on, to 64 and then 128 walks, and their error bars
+    # settle; the others keep their numbers.
+    boundary = circle_boundary(lambda x, y, z: 1.0 if y >= 0.0 else -1.0)
+    plain = solver_for(boundary, DISK_LINE, 32)
+    plain.SetWalkOnWhereUnreliable(1)
+    plain.Update()
+    before = flags(plain.GetOutput())
+    solver = solver_for(boundary, DISK_LINE, 32)
+    assert solver.GetWalkOnWhereUnreliable() == 4
+    catcher = MessageCatcher(solver)
+    solver.Update()
+    output = solver.GetOutput()
+    walks = output.GetPointData().GetArray("WalkCount")
+    values = output.GetPointData().GetArray("T")
+    plain_values = plain.GetOutput().GetPointData().GetArray("T")
+    moved = [i for i in range(100) if before[i] == 0]
+    assert len(moved) > 5
+    # Without walking on every point holds 32 walks: no WalkCount array.
+    assert plain.GetOutput().GetPointData().GetArray("WalkCount") is None
+    for i in range(100):
+        if before[i] == 1:
+            assert walks.GetValue(i) == 32
+            assert values.GetValue(i) == plain_values.GetValue(i)
+        else:
+            assert walks.GetValue(i) in (64, 128), (i, walks.GetValue(i))
+    assert field(output, "PointsWalkedOnForReliability") == len(moved)
+    after = flags(output)
+    assert after.count(0) * 4 <= len(moved), (after.count(0), len(moved))
+    scores = z_scores(output, lambda x, y, z: 2.0 / math.pi * math.atan2(
+        2.0 * y, 1.0 - x * x - y * y), "T")
+    assert all(abs(z) < 5.0 for z, ok in zip(scores, after) if ok)
+    if after.count(0) == 0:
+        assert not catcher.warnings, catcher.warning_text()
+    # The setting is checked.
+    checker = MessageCatcher(solver)
+    solver.SetWalkOnWhereUnreliable(0)
+    assert checker.errors and solver.GetWalkOnWhereUnreliable() == 4
 
 
 def test_light_tails_are_not_flagged_and_not_announced():

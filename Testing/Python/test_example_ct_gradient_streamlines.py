@@ -2,6 +2,7 @@
 run small: it must finish, report its run and write a picture that is not
 blank. Rendering needs a display (ctest runs this under xvfb-run)."""
 import os
+import re
 import subprocess
 import sys
 
@@ -36,8 +37,13 @@ def test_example_renders_a_picture(tmp_path):
          "--output", output, "--walks", "16", "--resolution", "40", "--size", "1000", "750"],
         capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout + run.stderr
-    for word in ("points: 1600", "walks: 25600", "seconds:", "streamlines:"):
+    for word in ("points: 1600", "(16 per point, more at", "seconds:", "streamlines:"):
         assert word in run.stdout, (word, run.stdout)
+    # 16 walks at each point, and more at the points that walked on for a
+    # reliable error bar (at most 4 times as many).
+    walks = int(re.search(r"walks: (\d+) ", run.stdout).group(1))
+    walked_on = int(re.search(r"more at (\d+) points", run.stdout).group(1))
+    assert 1600 * 16 + walked_on * 16 <= walks <= 1600 * 16 + walked_on * 48, run.stdout
     assert os.path.isfile(output)
 
     pixels = read_png(output)

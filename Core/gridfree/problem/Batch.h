@@ -43,6 +43,22 @@ struct BatchRequest
   // A point whose error bar is not reliable (ErrorBarReliability.h) does not
   // stop: its small standard error may be an artefact of heavy tails.
   double TargetStandardError = 0.0;
+  // Fixed-count mode: a point whose error bar is not reliable after
+  // WalksPerPoint walks walks on, checked at 2, 4, ... times WalksPerPoint
+  // (PointWalks::WalkOnUntilReliable), until it is reliable or holds this
+  // many times WalksPerPoint (1: no point walks on). A spread made by one
+  // walk is settled by more walks: they bring the rare walks that were
+  // due, and the error bar with them, or the point stays flagged. Uneven
+  // screening weights do not even out with walks (ErrorBarReliability.h):
+  // a point flagged for them walks on only if the walk values' bound would
+  // clear it at the most walks. The decision depends only on the point's
+  // own walks, so the numbers do not depend on the thread count. A later
+  // batch from kept sums continues each point from the walks it holds, and
+  // gives the numbers of one batch when its count is the earlier one's
+  // times a power of 2 (otherwise a point that walked on past its count
+  // keeps its walks). Not used in target-error mode, where an unreliable
+  // point already walks on.
+  int WalkOnWhereUnreliable = 1;
   // A problem with a polynomial control variate (Problem::SetPolynomialShift)
   // answers u = P + w; false asks for w itself, at every point (the
   // caches, which hold w and add P to their own answers).
@@ -100,6 +116,10 @@ struct BatchSummary
   bool UnboundedSource = false; // a volume source with unbounded support met the exterior
   // Finished points whose error bar is not reliable (ErrorBarReliability.h).
   std::uint64_t UnreliableErrorBars = 0;
+  // Points that walked on past WalksPerPoint for a reliable error bar
+  // (BatchRequest::WalkOnWhereUnreliable), and the walks they added.
+  std::uint64_t PointsWalkedOn = 0;
+  std::uint64_t WalksOnForReliability = 0;
   // Walk on stars: rays that met the Neumann or Robin part from outside
   // (WalkOnStarsEstimator::BackFaceHits), the sign of a wrongly oriented or
   // leaking reflecting surface; 0 otherwise.

@@ -25,8 +25,10 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <type_traits>
 #include <vector>
@@ -103,7 +105,14 @@ public:
       std::min((blockWalks - startWalks % blockWalks) % blockWalks, walks - startWalks);
     this->BlocksPerPoint = static_cast<std::size_t>(this->LeadWalks > 0) +
       static_cast<std::size_t>((walks - startWalks - this->LeadWalks + blockWalks - 1) / blockWalks);
-    const bool walkLevel = this->Target <= 0.0 && uniformStart && threadCount > 1 &&
+    // Walking on where unreliable decides point by point: points over the threads.
+    this->WalkOnMost = this->Target <= 0.0 && this->Request.WalkOnWhereUnreliable > 1
+      ? static_cast<int>(std::min<long long>(
+          static_cast<long long>(walks) * this->Request.WalkOnWhereUnreliable,
+          std::numeric_limits<int>::max()))
+      : walks;
+    const bool walkLevel = this->Target <= 0.0 && this->WalkOnMost == walks && uniformStart &&
+      threadCount > 1 &&
       this->NumPoints < 2 * static_cast<std::size_t>(threadCount) && this->BlocksPerPoint > 1 &&
       static_cast<double>(this->NumPoints) * (walks - startWalks) * this->SampleSize <=
         16.0 * 1024 * 1024;
@@ -119,7 +128,9 @@ public:
     {
       for (std::size_t i = 0; i < this->NumPoints; ++i)
       {
-        this->TotalWalks += static_cast<double>(walks) - static_cast<double>(kept->Walks(i));
+        // A point that walked on holds more than this batch's count.
+        this->TotalWalks +=
+          std::max(0.0, static_cast<double>(walks) - static_cast<double>(kept->Walks(i)));
       }
     }
 
@@ -139,14 +150,18 @@ public:
     }
     summary.WalksRun = this->WalksDone.load();
     summary.BackFaceHits = this->BackFaceHits.load();
+    summary.PointsWalkedOn = this->PointsWalkedOn.load();
+    summary.WalksOnForReliability = this->WalksOn.load();
     summary.Seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - this->Start).count();
     if (kept)
     {
       if (summary.Completed && walks > 0)
       {
-        // A target batch's points stop at different counts.
-        kept->SetKeptWalks(static_cast<std::uint64_t>(walks), this->Target <= 0.0);
+        // A target batch's points stop at different counts, and so do
+        // points that walked on for a reliable error bar.
+        kept->SetKeptWalks(static_cast<std::uint64_t>(walks),
+          this->Target <= 0.0 && !this->AnyPointAboveCount.load());
       }
       else
       {
@@ -312,6 +327,34 @@ private:
               {
                 ran = PointWalks::EstimateInChunks(estimator, points[i].data(), seed, from,
                   walks, stats, counters, cancel, this->WalksDone, status, from > 0);
+                if (ran && this->WalkOnMost > walks)
+                {
+                  const std::uint64_t before = stats.SampleCount();
+                  ran = PointWalks::WalkOnUntilReliable(estimator, points[i].data(), seed,
+                    walks, this->WalkOnMost, stats, counters, cancel, this->WalksDone, status,
+                    [&](const RunningStatistics& s, const WalkCounters& c, DerivativeStatus d) {
+                      // Uneven screening weights stay uneven however many
+                      // walks run (ErrorBarReliability.h); only the bound of
+                      // the walk values, a shift D/(s√N) that falls as
+                      // 1/√N, can clear them. No walking on where it would
+                      // still be too large at the most walks.
+                      const ErrorBarCheck check = this->P.ErrorBar(s, c, layout, d);
+                      const double fall = std::sqrt(
+                        static_cast<double>(s.SampleCount()) / this->WalkOnMost);
+                      return check.Reliable ||
+                        (check.UnevenWeights &&
+                          !(check.UnseenWalkShift * fall <= this->P.ErrorRule(c).MaxUnseenShift));
+                    });
+                  if (stats.SampleCount() > before)
+                  {
+                    this->PointsWalkedOn.fetch_add(1, std::memory_order_relaxed);
+                    this->WalksOn.fetch_add(stats.SampleCount() - before, std::memory_order_relaxed);
+                  }
+                }
+                if (stats.SampleCount() > static_cast<std::uint64_t>(walks))
+                {
+                  this->AnyPointAboveCount.store(true, std::memory_order_relaxed);
+                }
               }
               // Kept also when cut short: the next batch continues from the
               // walks it ran (whole chunks, with their history).
@@ -548,6 +591,13 @@ private:
   double TotalWalks = 0.0;
   std::atomic<std::uint64_t> WalksDone{ 0 };
   std::atomic<std::uint64_t> BackFaceHits{ 0 };
+  // Fixed-count mode: the most walks a point may walk on to (Walks when it
+  // does not walk on), the points that did and their added walks, and
+  // whether any point holds more than Walks (also from earlier batches).
+  int WalkOnMost = 0;
+  std::atomic<std::uint64_t> PointsWalkedOn{ 0 };
+  std::atomic<std::uint64_t> WalksOn{ 0 };
+  std::atomic<bool> AnyPointAboveCount{ false };
   std::mutex TotalsMutex;
   std::vector<unsigned char> Sunk;
   std::atomic<std::uint64_t> Finished{ 0 };

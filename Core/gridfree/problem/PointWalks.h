@@ -125,6 +125,42 @@ struct PointWalks
     return true;
   }
 
+  // Fixed-count mode's walking on (BatchRequest::WalkOnWhereUnreliable):
+  // from the walks the point holds, on to the next of the checks at
+  // `walks` times 2, 4, 8, ... (and `most`), until `settled` says walking
+  // on can stop (the error bar is reliable, or unreliable for a reason more
+  // walks do not remove), or it holds `most`. Doubling keeps refinement
+  // exact: a batch of twice the walks checks at counts the batch before
+  // also checked, so a point that walked on past it was found unreliable
+  // there, as one batch would have found it. (Few checks also keep the
+  // bias of stopping at the first reliable look small.) Returns false when
+  // aborted.
+  template <class Estimator>
+  static bool WalkOnUntilReliable(Estimator& estimator, const double xyz[3], std::uint64_t seed,
+    int walks, int most, RunningStatistics& stats, WalkCounters& counters,
+    const std::atomic<bool>& cancel, std::atomic<std::uint64_t>& done, DerivativeStatus& status,
+    const std::function<bool(const RunningStatistics&, const WalkCounters&, DerivativeStatus)>&
+      settled)
+  {
+    int walked = static_cast<int>(stats.SampleCount());
+    while (walks > 0 && walked < most && !settled(stats, counters, status))
+    {
+      long long next = walks;
+      while (next <= walked)
+      {
+        next *= 2;
+      }
+      const int to = static_cast<int>(std::min<long long>(most, next));
+      if (!EstimateInChunks(
+            estimator, xyz, seed, walked, to, stats, counters, cancel, done, status, true))
+      {
+        return false;
+      }
+      walked = to;
+    }
+    return true;
+  }
+
   // Whether a point's walks so far reach the target standard error with a
   // reliable error bar: where EstimateToTarget stops a point.
   // (A point closer than ε, DerivativeStatus::OneSided, has an exact value:

@@ -339,6 +339,119 @@ TEST(ErrorBarReliability, TargetModeDoesNotStopOnAnUnreliableVariance)
   EXPECT_GT(walkedOn, 0);
 }
 
+// Fixed-count mode walks on where a point's error bar is not reliable
+// (BatchRequest::WalkOnWhereUnreliable): the jumping 2D data at 64 walks,
+// where one walk on the far side of the jump makes the spread, walks on at
+// those points only, to 2 × 64 and then 4 × 64 (the most), until the error
+// bar is reliable. Fewer points stay flagged and none is missed; the points
+// that were reliable keep their numbers bit for bit; the numbers do not
+// depend on the thread count; and a later batch from the kept sums continues
+// each point from the walks it holds.
+TEST(ErrorBarReliability, FixedCountWalksOnWhereUnreliable)
+{
+  const Field<2> g = [](const Vec2& x) { return x[1] >= 0.0 ? 1.0 : -1.0; };
+  const Field<2> u = [](const Vec2& x) {
+    return 2.0 / M_PI * std::atan2(2.0 * x[1], 1.0 - x.squaredNorm());
+  };
+  const Problem<2> problem(SphereWith<2>(g), WalkSettings());
+  const std::vector<Vec2> inside = RandomPointsInBall<2>(300, 0.95, 6);
+  const auto points = AsProbe<2>(inside);
+  BatchRequest request;
+  request.WalksPerPoint = 64;
+  request.Seed = 10;
+  const BatchEstimates plain = problem.EstimateAll(points, request);
+  request.WalkOnWhereUnreliable = 4;
+  const BatchEstimates walkedOn = problem.EstimateAll(points, request);
+  request.Threads = 1;
+  const BatchEstimates oneThread = problem.EstimateAll(points, request);
+  EXPECT_EQ(oneThread.Means, walkedOn.Means);
+  EXPECT_EQ(oneThread.Variances, walkedOn.Variances);
+  request.Threads = 0;
+
+  std::uint64_t flaggedBefore = 0, moved = 0, added = 0, misses = 0;
+  double z2 = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const std::uint64_t walks = walkedOn.Counters[i].Walks;
+    if (plain.ErrorBars[i].Reliable)
+    {
+      EXPECT_EQ(walks, 64u) << i;
+      EXPECT_EQ(walkedOn.Value(i), plain.Value(i)) << i;
+      EXPECT_EQ(walkedOn.Variance(i, walkedOn.Summary.Layout.Value),
+        plain.Variance(i, plain.Summary.Layout.Value))
+        << i;
+    }
+    else
+    {
+      ++flaggedBefore;
+      EXPECT_TRUE(walks == 128u || walks == 256u) << i << ": " << walks;
+      EXPECT_TRUE(walkedOn.ErrorBars[i].Reliable || walks == 256u) << i;
+      moved += 1;
+      added += walks - 64;
+    }
+    const double z = (walkedOn.Value(i) - u(inside[i])) /
+      std::sqrt(walkedOn.Variance(i, walkedOn.Summary.Layout.Value));
+    z2 += z * z;
+    misses += !(std::abs(z) <= 5.0) && walkedOn.ErrorBars[i].Reliable;
+  }
+  z2 /= static_cast<double>(points.size());
+  std::printf("  flagged at 64 walks %llu, after walking on %llu (%llu walks added); "
+              "misses %llu, mean z^2 %.2f\n",
+    static_cast<unsigned long long>(flaggedBefore),
+    static_cast<unsigned long long>(walkedOn.Summary.UnreliableErrorBars),
+    static_cast<unsigned long long>(added), static_cast<unsigned long long>(misses), z2);
+  // Without walking on, wrong points are flagged (JumpingData2D).
+  EXPECT_GT(flaggedBefore, 10u);
+  EXPECT_EQ(plain.Summary.PointsWalkedOn, 0u);
+  EXPECT_EQ(walkedOn.Summary.PointsWalkedOn, moved);
+  EXPECT_EQ(walkedOn.Summary.WalksOnForReliability, added);
+  EXPECT_LE(walkedOn.Summary.UnreliableErrorBars * 4, flaggedBefore);
+  EXPECT_EQ(misses, 0u);
+  EXPECT_LT(z2, 1.5);
+
+  // Uneven screening weights do not even out with more walks: where the
+  // data's bound would not clear them at 4 × 64 walks either (data from
+  // e^-20 to e^20), the points do not walk on.
+  {
+    const Field<3> e = [](const Vec3& x) { return std::exp(20.0 * x[0]); };
+    const Problem<3> screened(SphereWith<3>(e), Screened(400.0, ScreenedSteps::Uniform));
+    const BatchEstimates s =
+      screened.EstimateAll(AsProbe<3>(RandomPointsInBall<3>(40, 0.9, 3)), request);
+    int uneven = 0;
+    for (std::size_t i = 0; i < s.Counters.size(); ++i)
+    {
+      if (s.ErrorBars[i].UnevenWeights && s.ErrorBars[i].UnseenWalkShift > 4.0)
+      {
+        ++uneven;
+        EXPECT_EQ(s.Counters[i].Walks, 64u) << i;
+      }
+    }
+    EXPECT_GT(uneven, 10);
+  }
+
+  // Kept sums: a batch of 32 walks then one of 64 continues each point from
+  // the walks it holds and gives the numbers of one batch of 64: a point
+  // that walked on past 64 was checked at 64 (and found unreliable) as one
+  // batch would have.
+  RunningSumsCache kept;
+  request.WalksPerPoint = 32;
+  const BatchEstimates first =
+    problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  request.WalksPerPoint = 64;
+  const BatchEstimates resumed =
+    problem.EstimateAll(points, request, BatchProgressCallback(), &kept);
+  const BatchEstimates whole = problem.EstimateAll(points, request);
+  EXPECT_EQ(resumed.Means, whole.Means);
+  EXPECT_EQ(resumed.Variances, whole.Variances);
+  int pastCount = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    EXPECT_EQ(resumed.Counters[i].Walks, whole.Counters[i].Walks) << i;
+    pastCount += first.Counters[i].Walks > 64;
+  }
+  EXPECT_GT(pastCount, 0);
+}
+
 namespace
 {
 double SegmentPotential3D(const Vec3& x, const Vec3& a, const Vec3& b, double sa, double sb)
