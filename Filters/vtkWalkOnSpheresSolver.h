@@ -690,7 +690,9 @@ public:
    * checked at each, until it is reliable or holds this many times
    * WalksPerPoint. The commonest false alarm, a spread made by a single
    * walk, settles this way, and so does a too small bar the single walk
-   * hid: more walks bring the rare walks that were due. Points flagged for
+   * hid: more walks bring the rare walks that were due (not always with
+   * NearBoundarySplitting on data that jump, whose split walks can hide a
+   * spread made by few walks: Documentation/ErrorBars.md). Points flagged for
    * uneven screening weights walk on only where more walks could clear
    * them (the weights do not even out with walks). Only flagged points walk
    * more (array WalkCount, present when counts differ; field

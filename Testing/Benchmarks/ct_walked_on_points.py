@@ -39,8 +39,7 @@ def slice_solve(walk_on, seed):
     solver.WalkOnWhereUnreliable = walk_on
     solver.Seed = seed
     solver.UpdatePipeline()
-    out = servermanager.Fetch(solver)
-    return out
+    return servermanager.Fetch(solver)
 
 
 kept = []  # (point, seed, (T, var, reliable) without walking on, the same with, walks)
