@@ -97,7 +97,8 @@ void WarnAboutUnreliableErrorBars(
     const bool walkedOn = f.WalkOnWhereUnreliable > 1 && f.Target <= 0.0;
     why << " " << f.OneWalkSpread
         << " of them because all their walks, or all but one, gave the same value although "
-           "they could have given others"
+           "they could have given others, or their spread comes from two or three walks "
+           "(data that jump, read with few walks)"
         << (walkedOn ? " (even after walking on up to " +
                 std::to_string(f.WalkOnWhereUnreliable) +
                 " times Walks Per Point: Walk On Where Unreliable)"

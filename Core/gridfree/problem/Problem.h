@@ -183,8 +183,17 @@ private:
       }
     }
     // (Guided weights can exceed 1: the bounds below do not hold for them.)
-    if (this->Walk.Problem == Equation::ScreenedPoisson && !this->Mixed && !this->Coefficients &&
-      !this->Guide && !this->Peak)
+    // The Laplace and Poisson walks without sources give convex
+    // combinations of g (branches of near-boundary splitting share a walk's
+    // weight), so their values lie within g's range too; 0 is theirs only
+    // for a walk that escaped (the exterior), whose points ErrorRule leaves
+    // to the plain rule.
+    const bool screened = this->Walk.Problem == Equation::ScreenedPoisson;
+    const bool harmonic = (this->Walk.Problem == Equation::Laplace ||
+                            this->Walk.Problem == Equation::Poisson) &&
+      (!this->Sources || this->Sources->Empty());
+    if ((screened || harmonic) && !this->Mixed && !this->Coefficients && !this->Guide &&
+      !this->Peak)
     {
       const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
       std::vector<double> low(nc), high(nc), steadyLow(nc), steadyHigh(nc);
@@ -194,8 +203,11 @@ private:
         const int c = static_cast<int>(k);
         known = this->Shape->ValueBounds(c, low[k], high[k]) &&
           this->SteadyRange(c, steadyLow[k], steadyHigh[k]);
-        low[k] = std::min(low[k], 0.0);
-        high[k] = std::max(high[k], 0.0);
+        if (screened)
+        {
+          low[k] = std::min(low[k], 0.0);
+          high[k] = std::max(high[k], 0.0);
+        }
       }
       if (known)
       {
@@ -450,16 +462,18 @@ public:
   }
 
   // The rule a point's error bar is judged by: with the bounds of its walk
-  // values where they are known (the screened walk with a value table and
-  // no sources or a volume source of known range), for walks never returned
-  // from far outside. A value's
+  // values where they are known (a value table, and the Laplace or Poisson
+  // walk without sources or the screened walk with no sources or a volume
+  // source of known range), for walks never returned from far outside (nor
+  // escaped to it, but for the screened walk, whose bounds hold 0). A value's
   // control variate may move a sample beyond them by
   // WalkCounters::ValueControlReach, the slack CheckErrorBar is given.
   const ErrorBarRule& ErrorRule(const WalkCounters& counters) const
   {
     static const ErrorBarRule plain;
-    return !this->BoundedWalks.WalkLow.empty() && counters.Returns == 0 ? this->BoundedWalks
-                                                                        : plain;
+    const bool bounded = !this->BoundedWalks.WalkLow.empty() && counters.Returns == 0 &&
+      (this->Walk.Problem == Equation::ScreenedPoisson || counters.Escaped == 0);
+    return bounded ? this->BoundedWalks : plain;
   }
 
   // Whether the walks of a point with these counters could have given
