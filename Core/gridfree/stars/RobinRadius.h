@@ -1,10 +1,28 @@
 // The Robin radius of walk on stars (WalkOnStars.md §1, WoSt-7): the largest
 // radius <= R at which every Robin point z of the star keeps the walk's
 // weight 1 − μ|S| G(r) r^{n−1}/(n·v) >= 0 for Δ. With h the distance from x
-// to a primitive's plane, n·v = h/r, and max over r < R of r²(1 − r/R) is
-// 4R²/27 (3D), of r² ln(R/r) R²/(2e) (2D): so R <= sqrt(27h/(4μ)) (3D),
-// sqrt(2e h/μ) (2D) for each Robin primitive nearer than R, unless the
-// primitive lies beyond R.
+// to a primitive's plane, n·v = h/r, so the weight is 1 − μ f(r)/h with
+// f(r) = r²(1 − r/R) (3D), r² ln(R/r) (2D). f rises to its largest,
+// 4R²/27 at r = 2R/3 (3D), R²/(2e) at r = R/√e (2D), and falls after. A
+// primitive at distance d from x has points only at r >= d, so with
+// t = h/μ it allows
+//
+//   3D: R = d / (1 − t/d²)   where t < d²/3 (then 2R/3 < d: f's largest
+//                            over r >= d is f(d)),
+//       R = sqrt(27t/4)      otherwise;
+//   2D: R = d·exp(t/d²)      where t < d²/2,
+//       R = sqrt(2e t)       otherwise
+//
+// (continuous at the switch, rising with t and with d; a primitive beyond
+// R leaves it). The second form alone, with the radius floored at d, was
+// used before; the first lets a star grow up to 1.5 (3D) or √e (2D) times
+// the distance of a nearby primitive whose plane is close to x.
+//
+// The primitive a walker on the Robin part stands on (and the coplanar ones
+// around it) still bound its next star to about ε: no ray meets that plane
+// again, but it is part of the star's boundary, and its term −∫ μ G u
+// has no other estimator here (WalkOnStars.md §9: leaving it out of the
+// bound biased 2D Robin problems to a mean z² of 44).
 //
 // Each primitive within R used to be visited. Here every node of the flux
 // sampler's hierarchy (ReflectingBoundarySampler.h) also keeps a bound for
@@ -120,19 +138,33 @@ public:
           return;
         }
         const double h = std::abs((x - sampler.FirstVertex(prim)).dot(normals[i]));
-        const double bound2 = kFactor * h / m;
-        if (!(bound2 < radius * radius))
+        if (!(kFactor * h / m < radius * radius))
         {
           return; // the plane is far enough: this primitive cannot shrink the radius
         }
         const double d2 = sampler.SquaredDistance(prim, x);
         if (d2 < radius * radius)
         {
-          radius = std::min(radius, std::sqrt(std::max(d2, bound2)));
+          radius = std::min(radius, PrimitiveRadius(h / m, std::sqrt(d2)));
         }
       },
       [&](std::uint32_t node) { return this->CannotShrink(this->Nodes[node], x, radius); });
     return radius;
+  }
+
+  // The largest star radius at which a Robin primitive at distance d from
+  // x, whose plane lies h from x, keeps the weights >= 0: t = h/μ (above).
+  static double PrimitiveRadius(double t, double d)
+  {
+    const double d2 = d * d;
+    if constexpr (DIM == 3)
+    {
+      return t < d2 / 3.0 ? d / (1.0 - t / d2) : std::sqrt(kFactor * t);
+    }
+    else
+    {
+      return t < 0.5 * d2 ? d * std::exp(t / d2) : std::sqrt(kFactor * t);
+    }
   }
 
 private:
