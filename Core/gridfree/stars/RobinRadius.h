@@ -13,10 +13,12 @@
 //   2D: R = d·exp(t/d²)      where t < d²/2,
 //       R = sqrt(2e t)       otherwise
 //
-// (continuous at the switch, rising with t and with d; a primitive beyond
-// R leaves it). The second form alone, with the radius floored at d, was
-// used before; the first lets a star grow up to 1.5 (3D) or √e (2D) times
-// the distance of a nearby primitive whose plane is close to x.
+// (continuous at the switch, rising with t and with d, and never below
+// sqrt(27t/4) or sqrt(2e t), so a primitive or node whose k·h/μ reaches R²
+// still cannot shrink the radius; a primitive beyond R leaves it). The
+// second form alone, with the radius floored at d, was used before; the
+// first lets a star grow up to 1.5 (3D) or √e (2D) times the distance of a
+// nearby primitive whose plane is close to x.
 //
 // The primitive a walker on the Robin part stands on (and the coplanar ones
 // around it) still bound its next star to about ε: no ray meets that plane
