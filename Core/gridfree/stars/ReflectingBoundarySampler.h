@@ -16,6 +16,7 @@
 
 #include <gridfree/geometry/BoundingBox.h>
 #include <gridfree/stars/BoxTreeTraversal.h>
+#include <gridfree/stars/FlatPatches.h>
 #include <gridfree/geometry/ClosestPointPrimitives.h>
 #include <gridfree/math/Vector.h>
 #include <gridfree/sampling/Random.h>
@@ -56,6 +57,14 @@ public:
     {
       this->Order[i] = static_cast<std::int64_t>(i);
       this->Areas[i] = this->PrimitiveArea(static_cast<std::int64_t>(i));
+    }
+    if constexpr (DIM == 3)
+    {
+      this->PatchReach = FlatPatchAreas(vertices, primitives, this->Areas);
+      for (double& reach : this->PatchReach)
+      {
+        reach = std::sqrt(reach / M_PI);
+      }
     }
     if (primitives.empty())
     {
@@ -233,6 +242,21 @@ public:
     return true;
   }
 
+  // The share of a walker's flux draws made by SampleInPlane when it stands
+  // on triangle `prim` with a star of radius R: half where the flat patch
+  // around it is large, ρ ≥ R/4 with ρ the radius of a disc of the patch's
+  // area (a face of a box, where the plane draws bound G/pdf near x by R
+  // and land on the face most of the time), and 2ρ/R below (a finely
+  // curved mesh, where the patch is one small triangle and most plane
+  // draws would miss it and be thrown away). Any share in (0, 1) keeps the
+  // mixture unbiased; a share s bounds G/pdf near x by R/(2s), while the
+  // flux term's variance from the rest of the ball grows as 1/(1 − s).
+  double PlaneShare(std::int64_t prim, double R) const
+  {
+    const double reach = 4.0 * this->PatchReach[static_cast<std::size_t>(prim)];
+    return R > reach ? 0.5 * reach / R : 0.5;
+  }
+
   // SampleInPlane's density at distance r from x.
   static double NearPdf(double R, double r)
   {
@@ -405,6 +429,7 @@ private:
   std::vector<Primitive> Primitives;
   std::vector<std::int64_t> Order; // primitives in leaf order
   std::vector<double> Areas;       // per primitive (original order)
+  std::vector<double> PatchReach;  // 3D: √(area of its flat patch / π), per primitive
   std::vector<std::uint32_t> LeafOf;
   std::vector<Node> Nodes;
 };

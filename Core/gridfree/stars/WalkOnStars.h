@@ -31,11 +31,12 @@
 //   Δ, the screened kernel's ratio for Δ − c.
 // - The flux term: one point z on the Neumann part in the ball
 //   (ReflectingBoundarySampler.h), kept if x_k sees it, weight G(|z − x_k|)
-//   h(z) / (α pdf(z)) (WoSt-3). In 3D, on the Neumann part, z is drawn half
-//   the time by area over the hierarchy and half the time in the plane of
-//   x_k's triangle with density ∝ 1/r (SampleInPlane; kept where the plane
-//   holds Neumann triangles), pdf the mixture's: the weight then stays
-//   bounded where G ~ 1/r on that plane, and so does its variance.
+//   h(z) / (α pdf(z)) (WoSt-3). In 3D, on the Neumann part, z is drawn
+//   either by area over the hierarchy or in the plane of x_k's triangle with
+//   density ∝ 1/r (SampleInPlane; kept where the plane holds Neumann
+//   triangles; half the draws on a large flat patch, fewer on a small one),
+//   pdf the mixture's: the weight then stays bounded where G ~ 1/r on that
+//   plane, and so does its variance.
 // - The source term: the walk-on-spheres sampler of the ball (SourceTerms.h)
 //   with every sample y outside St (hidden from x_k, or behind the Neumann
 //   part x_k lies on) given weight 0, the others 1/α; minus sign as in
@@ -467,10 +468,10 @@ private:
 
   // Adds factor · G(|z − x|) h(z) / pdf(z) for one point z of the Neumann
   // part in the ball that x sees (WoSt-3); nothing when none is drawn. On
-  // the Neumann part in 3D (x on primitive `onPrimitive`), z comes from an
-  // even mixture of the hierarchy's sampling and SampleInPlane in that
-  // primitive's plane, and pdf is the mixture's (one-sample, balance
-  // heuristic). The flux is taken along the domain's outward normal
+  // the Neumann part in 3D (x on primitive `onPrimitive`), z comes from a
+  // mixture of the hierarchy's sampling and SampleInPlane in that
+  // primitive's plane (PlaneShare: half on a large flat patch, less on a
+  // small one), and pdf is the mixture's (one-sample, balance heuristic). The flux is taken along the domain's outward normal
   // (FluxSign: an exterior domain's is opposite to the mesh's on Neumann
   // primitives).
   template <class Green>
@@ -482,9 +483,11 @@ private:
     const bool mixture = DIM == 3 && onNeumann && onPrimitive >= 0;
     BoundarySample<DIM> z;
     bool near = false;
+    double share = 0.0; // of the draws made in x's plane
     if (mixture)
     {
-      near = rng.NextDouble() < 0.5;
+      share = sampler.PlaneShare(onPrimitive, radius);
+      near = rng.NextDouble() < share;
     }
     if (near)
     {
@@ -511,7 +514,7 @@ private:
       const double byDistance = this->Coplanar(z.Primitive, onPrimitive, x)
         ? ReflectingBoundarySampler<DIM>::NearPdf(radius, r)
         : 0.0;
-      z.Pdf = 0.5 * (byArea + byDistance);
+      z.Pdf = (1.0 - share) * byArea + share * byDistance;
     }
     // Test visibility to a point just inside the domain off z, so that the
     // primitive z lies on does not hide it.

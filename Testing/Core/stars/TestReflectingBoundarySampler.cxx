@@ -171,3 +171,93 @@ void ExpectRayWeightsMatchTheKernel()
 TEST(StarKernels, ScreenedRayWeights2D) { ExpectRayWeightsMatchTheKernel<2>(); }
 TEST(StarKernels, ScreenedRayWeights3D) { ExpectRayWeightsMatchTheKernel<3>(); }
 } // namespace
+
+// Flat patches: a cube's face is one patch, the L block's top is one L of
+// three cells, each triangle of a sphere or of a soup (no shared vertices)
+// is its own; the share of plane draws follows the patch's size.
+TEST(ReflectingBoundarySampler, FlatPatchesSizeThePlaneDraws)
+{
+  auto build = [](const SimplexMesh<3>& mesh) {
+    ReflectingBoundarySampler<3> sampler;
+    sampler.Build(mesh.Vertices,
+      std::vector<std::array<std::int64_t, 3>>(mesh.Simplices.begin(), mesh.Simplices.end()));
+    return sampler;
+  };
+  auto patchAreas = [](const SimplexMesh<3>& mesh, const ReflectingBoundarySampler<3>& sampler) {
+    std::vector<double> areas;
+    for (std::size_t i = 0; i < mesh.Simplices.size(); ++i)
+    {
+      areas.push_back(sampler.Area(static_cast<std::int64_t>(i)));
+    }
+    return FlatPatchAreas(mesh.Vertices, mesh.Simplices, areas);
+  };
+
+  const SimplexMesh<3> cube = MakeCube(4, 0.5);
+  const ReflectingBoundarySampler<3> cubeSampler = build(cube);
+  for (double area : patchAreas(cube, cubeSampler))
+  {
+    EXPECT_NEAR(area, 1.0, 1e-12);
+  }
+  const double faceReach = std::sqrt(1.0 / M_PI);
+  EXPECT_DOUBLE_EQ(cubeSampler.PlaneShare(0, 3.9 * faceReach), 0.5);
+  EXPECT_NEAR(cubeSampler.PlaneShare(0, 16.0 * faceReach), 0.125, 1e-12);
+
+  const SimplexMesh<3> l3 = MakeBlockShape<3>({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } }, 3);
+  const std::vector<double> lAreas = patchAreas(l3, build(l3));
+  int top = 0;
+  for (std::size_t i = 0; i < l3.Simplices.size(); ++i)
+  {
+    Vec3 c = Vec3::Zero();
+    for (std::int64_t v : l3.Simplices[i])
+    {
+      c += l3.Vertices[static_cast<std::size_t>(v)] / 3.0;
+    }
+    if (std::abs(c.z() - 1.0) < 1e-12 || std::abs(c.z()) < 1e-12)
+    {
+      ++top;
+      EXPECT_NEAR(lAreas[i], 3.0, 1e-12) << "the L's top and bottom are one patch each";
+    }
+    else if (std::abs(c.x()) < 1e-12 || std::abs(c.y()) < 1e-12)
+    {
+      EXPECT_NEAR(lAreas[i], 2.0, 1e-12) << "the two long walls";
+    }
+  }
+  EXPECT_EQ(top, 2 * 3 * 9 * 2);
+
+  const SimplexMesh<3> sphere = MakeIcosphere(3);
+  const ReflectingBoundarySampler<3> sphereSampler = build(sphere);
+  const std::vector<double> sphereAreas = patchAreas(sphere, sphereSampler);
+  SimplexMesh<3> soup;
+  for (std::size_t i = 0; i < sphere.Simplices.size(); ++i)
+  {
+    EXPECT_DOUBLE_EQ(sphereAreas[i], sphereSampler.Area(static_cast<std::int64_t>(i)));
+    std::array<std::int64_t, 3> t;
+    for (int k = 0; k < 3; ++k)
+    {
+      t[k] = static_cast<std::int64_t>(soup.Vertices.size());
+      soup.Vertices.push_back(sphere.Vertices[static_cast<std::size_t>(sphere.Simplices[i][k])]);
+    }
+    soup.Simplices.push_back(t);
+  }
+  const SimplexMesh<3> cubeSoupSource = MakeCube(2, 0.5);
+  for (const auto& s : cubeSoupSource.Simplices)
+  {
+    std::array<std::int64_t, 3> t;
+    for (int k = 0; k < 3; ++k)
+    {
+      t[k] = static_cast<std::int64_t>(soup.Vertices.size());
+      soup.Vertices.push_back(cubeSoupSource.Vertices[static_cast<std::size_t>(s[k])] * 3.0);
+    }
+    soup.Simplices.push_back(t);
+  }
+  const ReflectingBoundarySampler<3> soupSampler = build(soup);
+  const std::vector<double> soupAreas = patchAreas(soup, soupSampler);
+  for (std::size_t i = 0; i < soup.Simplices.size(); ++i)
+  {
+    EXPECT_DOUBLE_EQ(soupAreas[i], soupSampler.Area(static_cast<std::int64_t>(i)));
+  }
+  // A sphere's triangle is small against a star of radius 0.5: fewer plane draws.
+  const double reach = std::sqrt(sphereSampler.Area(0) / M_PI);
+  EXPECT_NEAR(sphereSampler.PlaneShare(0, 0.5), 2.0 * reach / 0.5, 1e-15);
+  EXPECT_LT(sphereSampler.PlaneShare(0, 0.5), 0.25);
+}
