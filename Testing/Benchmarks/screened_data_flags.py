@@ -3,10 +3,10 @@ with right error bars does the solver flag unreliable, with its boundary
 values read from an array (bounds known: the array's range) and from
 BoundaryValueExpression (bounds unknown)? Screened Poisson, c = 9 on the
 unit disk with u = e^{3x}, and c = 4 in the unit ball with u = e^{2x};
-300 random points each (seed 5), walk seed 3.
+300 random points each (seed 5), walk seed 3 unless told.
 
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
-        Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4]
+        Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4] [--seed 3]
 
 Prints, per case and data: points, mean z², largest |z|, points flagged and
 points missed (|z| > 5 and not flagged). Documentation/ErrorBars.md has
@@ -22,28 +22,18 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "Python"))
 
 import gridfree  # noqa: E402
-from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkPolyData  # noqa: E402
-from gridfree_testing import circle_boundary, sphere_boundary  # noqa: E402
-
-
-def probe(points):
-    data = vtkPolyData()
-    vtk_points = vtkPoints()
-    for p in points:
-        vtk_points.InsertNextPoint(*p)
-    data.SetPoints(vtk_points)
-    return data
+from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
+from gridfree_testing import circle_boundary, point_cloud, sphere_boundary  # noqa: E402
 
 
 def solve(boundary, points, exact, screening, expression, args):
     solver = gridfree.vtkWalkOnSpheresSolver()
     solver.SetBoundaryData(boundary)
-    solver.SetProbeData(probe(points))
+    solver.SetProbeData(point_cloud(points))
     solver.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, "T")
     solver.SetWalksPerPoint(args.walks)
     solver.SetWalkOnWhereUnreliable(args.walk_on)
-    solver.SetSeed(3)
+    solver.SetSeed(args.seed)
     solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.SCREENED_POISSON)
     solver.SetScreeningCoefficient(screening)
     if expression:
@@ -67,6 +57,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--walks", type=int, default=256)
     parser.add_argument("--walk-on", type=int, default=4, help="Walk On Where Unreliable (1: off)")
+    parser.add_argument("--seed", type=int, default=3, help="the walks' seed")
     args = parser.parse_args()
     rng = random.Random(5)
 
@@ -76,7 +67,8 @@ def main():
         if x * x + y * y < 0.95 ** 2:
             disk.append((x, y, 0.0))
     exact = lambda x, y, z: math.exp(3.0 * x)  # noqa: E731
-    print("2D unit disk, c = 9, u = e^{3x}, %d walks, walk on %d" % (args.walks, args.walk_on))
+    print("2D unit disk, c = 9, u = e^{3x}, %d walks, walk on %d, seed %d" % (
+        args.walks, args.walk_on, args.seed))
     for expression in (None, "exp(3*x)"):
         solve(circle_boundary(exact), disk, exact, 9.0, expression, args)
 
@@ -86,7 +78,8 @@ def main():
         if x * x + y * y + z * z < 0.9 ** 2:
             ball.append((x, y, z))
     exact = lambda x, y, z: math.exp(2.0 * x)  # noqa: E731
-    print("3D unit ball, c = 4, u = e^{2x}, %d walks, walk on %d" % (args.walks, args.walk_on))
+    print("3D unit ball, c = 4, u = e^{2x}, %d walks, walk on %d, seed %d" % (
+        args.walks, args.walk_on, args.seed))
     for expression in (None, "exp(2*x)"):
         solve(sphere_boundary(exact), ball, exact, 4.0, expression, args)
 
