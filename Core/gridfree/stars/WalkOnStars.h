@@ -471,9 +471,9 @@ private:
   // the Neumann part in 3D (x on primitive `onPrimitive`), z comes from a
   // mixture of the hierarchy's sampling and SampleInPlane in that
   // primitive's plane (PlaneShare: half on a large flat patch, less on a
-  // small one), and pdf is the mixture's (one-sample, balance heuristic). The flux is taken along the domain's outward normal
-  // (FluxSign: an exterior domain's is opposite to the mesh's on Neumann
-  // primitives).
+  // small one), and pdf is the mixture's (one-sample, balance heuristic).
+  // The flux is taken along the domain's outward normal (FluxSign: an
+  // exterior domain's is opposite to the mesh's on Neumann primitives).
   template <class Green>
   void AddFluxTerm(const Vec<DIM>& x, const Vec<DIM>& origin, bool onNeumann, const Vec<DIM>& n,
     std::int64_t onPrimitive, double radius, const Green& green, double factor, RandomStream& rng)
