@@ -199,6 +199,79 @@ public:
     }
     return lowest <= highest;
   }
+  // The lowest and highest value of every component a walk reads, for the
+  // error bars' reliability signs (ErrorBarReliability.h): a value table's
+  // exact range (ValueBounds), or, for values from a function on a mesh
+  // (an expression, an image probed at the boundary), the range of the
+  // values at every vertex and every primitive's centroid. Those samples
+  // are not a bound (a function may peak between them), so nothing that
+  // must be exact (whether a flux is zero) reads them; for the signs a
+  // range a little short of the truth only makes an unseen walk look a
+  // little nearer. False for other geometries, for shifted values and where
+  // a sample is not finite.
+  bool ValueRanges(std::vector<double>& lowest, std::vector<double>& highest) const
+  {
+    const std::size_t own = static_cast<std::size_t>(this->Components());
+    lowest.assign(own, 0.0);
+    highest.assign(own, 0.0);
+    if (!this->ValueFunction)
+    {
+      for (std::size_t c = 0; c < own; ++c)
+      {
+        if (!this->ValueBounds(static_cast<int>(c), lowest[c], highest[c]))
+        {
+          return false;
+        }
+      }
+      return true;
+    }
+    if (this->Shape || this->Shift || this->Primitives.empty())
+    {
+      return false;
+    }
+    std::fill(lowest.begin(), lowest.end(), std::numeric_limits<double>::infinity());
+    std::fill(highest.begin(), highest.end(), -std::numeric_limits<double>::infinity());
+    std::vector<double> value(static_cast<std::size_t>(this->NumberOfComponents));
+    bool finite = true;
+    auto take = [&](const ClosestPointResult<DIM>& hit) {
+      this->EvaluateStored(hit, value.data());
+      for (std::size_t i = 0; i < value.size(); ++i)
+      {
+        const std::size_t c = i % own;
+        finite = finite && std::isfinite(value[i]);
+        lowest[c] = std::min(lowest[c], value[i]);
+        highest[c] = std::max(highest[c], value[i]);
+      }
+    };
+    // Each vertex once, read through the first primitive that holds it.
+    std::vector<char> seen(this->Vertices.size(), 0);
+    for (std::size_t i = 0; i < this->Primitives.size() && finite; ++i)
+    {
+      const Primitive& p = this->Primitives[i];
+      ClosestPointResult<DIM> hit;
+      hit.primitive = static_cast<std::int64_t>(i);
+      hit.distance = 0.0;
+      hit.point = Vec<DIM>::Zero();
+      for (int k = 0; k < DIM; ++k)
+      {
+        hit.point += this->Vertices[static_cast<std::size_t>(p[k])] / DIM;
+      }
+      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
+      take(hit);
+      for (int k = 0; k < DIM; ++k)
+      {
+        const std::size_t v = static_cast<std::size_t>(p[k]);
+        if (!seen[v])
+        {
+          seen[v] = 1;
+          hit.point = this->Vertices[v];
+          hit.barycentric = Vec<DIM>::Unit(k);
+          take(hit);
+        }
+      }
+    }
+    return finite;
+  }
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
   const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }

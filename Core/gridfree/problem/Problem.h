@@ -156,10 +156,11 @@ private:
     // so do varying coefficients.
     this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
       (!this->Sources || this->Sources->Empty());
-    // The plain screened walk with Dirichlet data from a table gives walk
-    // values W·g + (1 − W)·v with 0 ≤ W ≤ 1 and v from a volume source of
-    // known range (SteadyRange): bounded, which lets uneven weights pass
-    // where no unseen walk could move the mean far (ErrorBarReliability.h).
+    // The plain screened walk with Dirichlet data of known range (a table's,
+    // or a function's sampled on a mesh) gives walk values W·g + (1 − W)·v
+    // with 0 ≤ W ≤ 1 and v from a volume source of known range
+    // (SteadyRange): bounded, which lets uneven weights pass where no unseen
+    // walk could move the mean far (ErrorBarReliability.h).
     if (this->GuidesScreenedSteps())
     {
       auto guide =
@@ -187,7 +188,8 @@ private:
     // combinations of g (branches of near-boundary splitting share a walk's
     // weight), so their values lie within g's range too; 0 is theirs only
     // for a walk that escaped (the exterior), whose points ErrorRule leaves
-    // to the plain rule.
+    // to the plain rule. g's range is a table's, or a function's sampled on
+    // the mesh (Boundary::ValueRanges).
     const bool screened = this->Walk.Problem == Equation::ScreenedPoisson;
     const bool harmonic = (this->Walk.Problem == Equation::Laplace ||
                             this->Walk.Problem == Equation::Poisson) &&
@@ -196,13 +198,12 @@ private:
       !this->Peak)
     {
       const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
-      std::vector<double> low(nc), high(nc), steadyLow(nc), steadyHigh(nc);
-      bool known = true;
+      std::vector<double> low, high, steadyLow(nc), steadyHigh(nc);
+      bool known = this->Shape->ValueRanges(low, high);
       for (std::size_t k = 0; k < nc && known; ++k)
       {
         const int c = static_cast<int>(k);
-        known = this->Shape->ValueBounds(c, low[k], high[k]) &&
-          this->SteadyRange(c, steadyLow[k], steadyHigh[k]);
+        known = this->SteadyRange(c, steadyLow[k], steadyHigh[k]);
         if (screened)
         {
           low[k] = std::min(low[k], 0.0);
@@ -462,12 +463,13 @@ public:
   }
 
   // The rule a point's error bar is judged by: with the bounds of its walk
-  // values where they are known (a value table, and the Laplace or Poisson
-  // walk without sources or the screened walk with no sources or a volume
-  // source of known range), for walks never returned from far outside (nor
-  // escaped to it, but for the screened walk, whose bounds hold 0). A value's
-  // control variate may move a sample beyond them by
-  // WalkCounters::ValueControlReach, the slack CheckErrorBar is given.
+  // values where they are known (a value table or a function on a mesh,
+  // Boundary::ValueRanges, and the Laplace or Poisson walk without sources
+  // or the screened walk with no sources or a volume source of known
+  // range), for walks never returned from far outside (nor escaped to it,
+  // but for the screened walk, whose bounds hold 0). A value's control
+  // variate may move a sample beyond them by WalkCounters::ValueControlReach,
+  // the slack CheckErrorBar is given.
   const ErrorBarRule& ErrorRule(const WalkCounters& counters) const
   {
     static const ErrorBarRule plain;
