@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -122,6 +123,7 @@ public:
         std::to_string(this->NumberOfComponents));
     }
     this->TwoSided = twoSided;
+    this->FunctionRanges = std::make_shared<SampledRanges>();
     this->Pseudonormals = SidePseudonormals<DIM>();
     if (twoSided && !this->Shape)
     {
@@ -140,6 +142,7 @@ public:
       throw std::invalid_argument("a polynomial shift takes one-sided values of one component");
     }
     this->Shift = std::move(shift);
+    this->FunctionRanges = std::make_shared<SampledRanges>();
   }
   const PolynomialShift<DIM>* GetValueShift() const { return this->Shift.get(); }
 
@@ -208,7 +211,9 @@ public:
   // must be exact (whether a flux is zero) reads them; for the signs a
   // range a little short of the truth only makes an unseen walk look a
   // little nearer. False for other geometries, for shifted values and where
-  // a sample is not finite.
+  // a sample is not finite. A function's samples are taken once per
+  // boundary (the first call; later calls, from the problems a filter
+  // builds on each update, read them).
   bool ValueRanges(std::vector<double>& lowest, std::vector<double>& highest) const
   {
     const std::size_t own = static_cast<std::size_t>(this->Components());
@@ -229,48 +234,15 @@ public:
     {
       return false;
     }
-    std::fill(lowest.begin(), lowest.end(), std::numeric_limits<double>::infinity());
-    std::fill(highest.begin(), highest.end(), -std::numeric_limits<double>::infinity());
-    std::vector<double> value(static_cast<std::size_t>(this->NumberOfComponents));
-    bool finite = true;
-    auto take = [&](const ClosestPointResult<DIM>& hit) {
-      this->EvaluateStored(hit, value.data());
-      for (std::size_t i = 0; i < value.size(); ++i)
-      {
-        const std::size_t c = i % own;
-        finite = finite && std::isfinite(value[i]);
-        lowest[c] = std::min(lowest[c], value[i]);
-        highest[c] = std::max(highest[c], value[i]);
-      }
-    };
-    // Each vertex once, read through the first primitive that holds it.
-    std::vector<char> seen(this->Vertices.size(), 0);
-    for (std::size_t i = 0; i < this->Primitives.size() && finite; ++i)
+    if (!this->FunctionRanges) // a boundary moved from
     {
-      const Primitive& p = this->Primitives[i];
-      ClosestPointResult<DIM> hit;
-      hit.primitive = static_cast<std::int64_t>(i);
-      hit.distance = 0.0;
-      hit.point = Vec<DIM>::Zero();
-      for (int k = 0; k < DIM; ++k)
-      {
-        hit.point += this->Vertices[static_cast<std::size_t>(p[k])] / DIM;
-      }
-      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
-      take(hit);
-      for (int k = 0; k < DIM; ++k)
-      {
-        const std::size_t v = static_cast<std::size_t>(p[k]);
-        if (!seen[v])
-        {
-          seen[v] = 1;
-          hit.point = this->Vertices[v];
-          hit.barycentric = Vec<DIM>::Unit(k);
-          take(hit);
-        }
-      }
+      return this->SampleFunction(lowest, highest);
     }
-    return finite;
+    SampledRanges& cache = *this->FunctionRanges;
+    std::call_once(cache.Once, [&]() { cache.Known = this->SampleFunction(cache.Low, cache.High); });
+    lowest = cache.Low;
+    highest = cache.High;
+    return cache.Known;
   }
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
@@ -432,6 +404,55 @@ public:
   }
 
 private:
+  // A function's range at every vertex and primitive centroid
+  // (ValueRanges); false where a sample is not finite.
+  bool SampleFunction(std::vector<double>& lowest, std::vector<double>& highest) const
+  {
+    const std::size_t own = static_cast<std::size_t>(this->Components());
+    lowest.assign(own, std::numeric_limits<double>::infinity());
+    highest.assign(own, -std::numeric_limits<double>::infinity());
+    std::vector<double> value(static_cast<std::size_t>(this->NumberOfComponents));
+    bool finite = true;
+    auto take = [&](const ClosestPointResult<DIM>& hit) {
+      this->EvaluateStored(hit, value.data());
+      for (std::size_t i = 0; i < value.size(); ++i)
+      {
+        const std::size_t c = i % own;
+        finite = finite && std::isfinite(value[i]);
+        lowest[c] = std::min(lowest[c], value[i]);
+        highest[c] = std::max(highest[c], value[i]);
+      }
+    };
+    // Each vertex once, read through the first primitive that holds it.
+    std::vector<char> seen(this->Vertices.size(), 0);
+    for (std::size_t i = 0; i < this->Primitives.size() && finite; ++i)
+    {
+      const Primitive& p = this->Primitives[i];
+      ClosestPointResult<DIM> hit;
+      hit.primitive = static_cast<std::int64_t>(i);
+      hit.distance = 0.0;
+      hit.point = Vec<DIM>::Zero();
+      for (int k = 0; k < DIM; ++k)
+      {
+        hit.point += this->Vertices[static_cast<std::size_t>(p[k])] / DIM;
+      }
+      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
+      take(hit);
+      for (int k = 0; k < DIM; ++k)
+      {
+        const std::size_t v = static_cast<std::size_t>(p[k]);
+        if (!seen[v])
+        {
+          seen[v] = 1;
+          hit.point = this->Vertices[v];
+          hit.barycentric = Vec<DIM>::Unit(k);
+          take(hit);
+        }
+      }
+    }
+    return finite;
+  }
+
   // One side's values (side +1 front, −1 back, 0 their mean) of a
   // two-sided boundary, from a per-thread buffer of both that grows once.
   void EvaluateSide(int side, const ClosestPointResult<DIM>& hit, double* out) const
@@ -510,6 +531,7 @@ private:
     this->Shape.reset();
     this->Shift.reset();
     this->TwoSided = false;
+    this->FunctionRanges = std::make_shared<SampledRanges>();
     this->Tree = Bvh<DIM>();
     this->BoundGrid = DistanceBoundGrid<DIM>();
   }
@@ -601,6 +623,16 @@ private:
   std::shared_ptr<const BoundaryValueFunction<DIM>> ValueFunction;
   std::shared_ptr<const BoundaryGeometry<DIM>> Shape;
   std::shared_ptr<const PolynomialShift<DIM>> Shift;
+  // A value function's sampled range (ValueRanges), taken once; a new one
+  // whenever the values or their reading change (copies share it until
+  // then).
+  struct SampledRanges
+  {
+    std::once_flag Once;
+    bool Known = false;
+    std::vector<double> Low, High;
+  };
+  std::shared_ptr<SampledRanges> FunctionRanges = std::make_shared<SampledRanges>();
   static constexpr std::size_t kBoundGridVertices = 300000;
   static constexpr double kBoundGridBoundRelaxation = 0.05;
   double StepRelaxation = 0.2;
