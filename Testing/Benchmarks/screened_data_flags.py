@@ -2,17 +2,16 @@
 with right error bars does the solver flag unreliable, with its boundary
 values read from an array (bounds known: the array's range) and from
 BoundaryValueExpression (its range sampled at the mesh's points and cell
-centers)? Screened Poisson, c = 9 on the
-unit disk with u = e^{3x}, and c = 4 in the unit ball with u = e^{2x};
-300 random points each (seed 5), walk seed 3 unless told.
+centers)? Screened Poisson, c = 9 on the unit disk with u = e^{3x}, and
+c = 4 in the unit ball with u = e^{2x}; 300 random points each (seed 5),
+walk seed 3 unless told.
 
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
         Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4] [--seed 3]
 
 Prints, per case and data: points, mean z², largest |z|, points flagged and
 points missed (|z| > 5 and not flagged), and the mean z² of the flagged
-and of the unflagged points. Documentation/ErrorBars.md has
-its figures.
+and of the unflagged points. Documentation/ErrorBars.md has its figures.
 """
 import argparse
 import math
