@@ -483,9 +483,12 @@ public:
    * with the largest log|g| − √c·distance and reweighted (unbiased): where
    * 1/√c is short beside the domain, uniform steps' error bars are wrong by
    * orders of magnitude and guided ones stay right.
-   * SCREENED_STEPS_AUTOMATIC (the default) guides when √c times the
-   * boundary's diagonal is at least 10 and there is no source. Guided steps
-   * need a mesh boundary (gridfree/estimators/ScreenedGuide.h).
+   * SCREENED_STEPS_AUTOMATIC (the default) guides when there is no source
+   * and √c times the boundary's diagonal is at least 10, or, under milder
+   * screening, when the data lead one way (the guide's directions from
+   * points inside the mesh agree, as for a plane wave) and Peak Steps do
+   * not take the walk. Guided steps need a mesh boundary
+   * (gridfree/estimators/ScreenedGuide.h).
    */
   virtual void SetScreenedSteps(int value); // a value out of range is an error
   int GetScreenedSteps();

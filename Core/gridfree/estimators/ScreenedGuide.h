@@ -28,6 +28,7 @@
 #define GRIDFREE_ESTIMATORS_SCREENED_GUIDE_H
 
 #include <gridfree/boundary/Boundary.h>
+#include <gridfree/geometry/RayParity.h>
 #include <gridfree/math/BesselFunctions.h>
 #include <gridfree/math/Vector.h>
 #include <gridfree/sampling/Random.h>
@@ -42,6 +43,37 @@
 
 namespace gridfree
 {
+/// The centres of a lattice of `cells` cells a side over a closed mesh
+/// boundary's box that lie inside it (by ray parity): where
+/// ScreenedGuide::Agreement is asked.
+template <int DIM>
+std::vector<Vec<DIM>> InteriorLattice(const Boundary<DIM>& boundary, int cells)
+{
+  std::vector<Vec<DIM>> inside;
+  const Vec<DIM> low = boundary.BoundsMin();
+  const Vec<DIM> extent = boundary.BoundsMax() - low;
+  int total = 1;
+  for (int k = 0; k < DIM; ++k)
+  {
+    total *= cells;
+  }
+  for (int i = 0; i < total; ++i)
+  {
+    Vec<DIM> x;
+    int rest = i;
+    for (int k = 0; k < DIM; ++k)
+    {
+      x[k] = low[k] + extent[k] * ((rest % cells) + 0.5) / cells;
+      rest /= cells;
+    }
+    if (InsideClosedMesh<DIM>(boundary, x))
+    {
+      inside.push_back(x);
+    }
+  }
+  return inside;
+}
+
 /// The von Mises–Fisher density on S^{DIM−1} around n with concentration z,
 /// divided by the uniform density: e^{z cos θ} / mean(e^{z cos θ}), written
 /// so that it neither overflows nor underflows for z up to ~700.
@@ -155,7 +187,27 @@ public:
   bool Empty() const { return this->Points.empty(); }
 
   /// Whether a step whose boundary weight is C uses the guide.
-  bool Guides(double boundaryWeight) const { return !this->Empty() && boundaryWeight < 1.0; }
+  bool Guides(double boundaryWeight) const
+  {
+    return !this->Empty() && boundaryWeight < this->WeightCeiling;
+  }
+
+  /// Leaves uniform the steps whose √c·R is below z (default 0: every
+  /// step is guided). Over such a sphere a plane wave varies by e^{±z} at
+  /// most, so guiding gains little there while its search costs as much
+  /// as on a large sphere; mild screening (Problem::LeadingGuide) takes
+  /// most of its steps near the boundary, where spheres are small.
+  void SetLeastConcentration(double z)
+  {
+    if constexpr (DIM == 3)
+    {
+      this->WeightCeiling = z > 0.0 ? z / std::sinh(z) : 1.0;
+    }
+    else
+    {
+      this->WeightCeiling = 1.0 / (std::exp(z) * BesselI0Scaled(z));
+    }
+  }
 
   /// The most a guided step's factor can be: C/(1 − α).
   static double LargestFactor(double boundaryWeight) { return boundaryWeight / (1.0 - Share); }
@@ -175,6 +227,28 @@ public:
     }
     n = d / length;
     return true;
+  }
+
+  /// How much the guide's directions agree: the mean resultant length
+  /// |mean n(x)| over `points` (0 with none). Near 1 where the largest
+  /// contributions come from one side from everywhere, as for a plane wave
+  /// e^{√c e·y} (whose steps' zero-variance density the guide draws), near 0
+  /// where they come from all around (radial data), where leaning each step
+  /// one way makes its tail heavier.
+  double Agreement(const std::vector<Vec<DIM>>& points) const
+  {
+    Vec<DIM> sum = Vec<DIM>::Zero();
+    std::size_t counted = 0;
+    for (const Vec<DIM>& x : points)
+    {
+      Vec<DIM> n;
+      if (this->Direction(x, n))
+      {
+        sum += n;
+        ++counted;
+      }
+    }
+    return counted ? sum.norm() / static_cast<double>(counted) : 0.0;
   }
 
   /// One guided step's direction and its weight factor (times C).
@@ -289,6 +363,7 @@ private:
   }
 
   double SqrtC;
+  double WeightCeiling = 1.0; // steps with C below it are guided
   std::vector<Vec<DIM>> Points;
   std::vector<double> LogValue;
   std::vector<std::uint32_t> Order;

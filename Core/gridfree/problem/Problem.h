@@ -183,6 +183,11 @@ private:
         }
       }
     }
+    if (!this->Guide && !this->Peak)
+    {
+      this->Guide = this->LeadingGuide();
+      this->GuideLeadsMildly = this->Guide != nullptr;
+    }
     // (Guided weights can exceed 1: the bounds below do not hold for them.)
     // The Laplace and Poisson walks without sources give convex
     // combinations of g (branches of near-boundary splitting share a walk's
@@ -242,6 +247,40 @@ private:
     }
     return std::sqrt(this->Walk.ScreeningCoefficient) * this->Shape->Diagonal() >= 10.0 &&
       (!this->Sources || this->Sources->Empty());
+  }
+
+  // Automatic's guided steps under mild screening (√c × the diagonal below
+  // 10, where GuidesScreenedSteps leaves the steps uniform), where the
+  // guide's directions agree across the domain (ScreenedGuide::Agreement at
+  // least kLeadingAgreement over the centres of an 8-cell lattice inside the
+  // mesh): the data lead one way, as a plane wave's do, and a point's value
+  // comes from rare walks that reach the far side, which uniform steps find
+  // too seldom (the unit disk with e^{3x} at c = 9, the unit ball with
+  // e^{2x} at c = 4: Documentation/ErrorBars.md). Not where the data come
+  // from all around (radial data: the directions cancel), where leaning one
+  // way made the tails heavier; nor for peaks, which the peak steps take
+  // first in 3D; nor where either kind of step was set by hand.
+  static constexpr double kLeadingAgreement = 0.9;
+  static constexpr double kLeadingLeastConcentration = 0.5; // ScreenedGuide::SetLeastConcentration
+  std::shared_ptr<const ScreenedGuide<DIM>> LeadingGuide() const
+  {
+    if (this->Walk.Problem != Equation::ScreenedPoisson || this->Mixed || this->Coefficients ||
+      !this->Shape->IsMesh() || this->Walk.Screening != ScreenedSteps::Automatic ||
+      this->Walk.PeakGuiding != PeakSteps::Automatic || (this->Sources && !this->Sources->Empty()) ||
+      !(this->Walk.ScreeningCoefficient > 0.0))
+    {
+      return nullptr;
+    }
+    auto guide =
+      std::make_shared<ScreenedGuide<DIM>>(*this->Shape, this->Walk.ScreeningCoefficient);
+    if (guide->Empty())
+    {
+      return nullptr;
+    }
+    guide->SetLeastConcentration(kLeadingLeastConcentration);
+    return guide->Agreement(InteriorLattice<DIM>(*this->Shape, 8)) >= kLeadingAgreement
+      ? guide
+      : nullptr;
   }
 
   // Steps toward the data's peak (PeakGuide.h): walk on spheres on a 3D
@@ -349,6 +388,10 @@ public:
     if (this->Shift && this->Walk.PeakGuiding == PeakSteps::Automatic)
     {
       this->Peak.reset();
+    }
+    if (this->Shift && this->GuideLeadsMildly)
+    {
+      this->Guide.reset(); // g − P leads nowhere in particular
     }
   }
   const PolynomialShift<DIM>* GetPolynomialShift() const { return this->Shift.get(); }
@@ -688,6 +731,7 @@ private:
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
   std::shared_ptr<const ScreenedGuide<DIM>> Guide; // guided screened steps, or null
+  bool GuideLeadsMildly = false;                    // chosen by LeadingGuide
   std::shared_ptr<const PeakGuide<DIM>> Peak;      // steps toward the data's peak, or null
   bool ConstantData = false; // constant boundary values and no sources
   ErrorBarRule BoundedWalks;  // with the walk values' bounds, where known

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <random>
 
 using namespace gridfree;
@@ -158,5 +160,48 @@ TEST(ScreenedGuide, SearchFindsTheBestBoundaryPoint)
       EXPECT_NEAR((n - (bestPoint - x).normalized()).norm(), 0.0, 1e-9) << "c " << c << ", query " << q;
     }
   }
+}
+// The guide's directions from points inside agree where the data lead one
+// way (a plane wave e^{√c e·y}, whose largest contributions come from one
+// side from everywhere): there Automatic guides mildly screened walks
+// (Problem::LeadingGuide). Where the data come from two sides (radial data
+// on an ellipse, largest at both ends) or from all around (constant data:
+// each point's nearest boundary point), the directions cancel.
+template <int DIM>
+double AgreementOf(const SimplexMesh<DIM>& mesh, double c, const std::function<double(const Vec<DIM>&)>& g)
+{
+  std::vector<double> values;
+  for (const Vec<DIM>& v : mesh.Vertices)
+  {
+    values.push_back(g(v));
+  }
+  Boundary<DIM> boundary;
+  boundary.Set(mesh.Vertices, mesh.Simplices, ValueAssociation::Points, 1, values);
+  const std::vector<Vec<DIM>> inside = InteriorLattice<DIM>(boundary, 8);
+  EXPECT_GT(inside.size(), DIM == 2 ? 40u : 200u); // of 64 and 512 cells
+  return ScreenedGuide<DIM>(boundary, c).Agreement(inside);
+}
+
+TEST(ScreenedGuide, DirectionsAgreeWhereTheDataLeadOneWay)
+{
+  const SimplexMesh<2> circle = MakeCircle(256);
+  SimplexMesh<2> ellipse = circle;
+  for (Vec2& v : ellipse.Vertices)
+  {
+    v[1] *= 0.6;
+  }
+  const double planeWave2 = AgreementOf<2>(circle, 9.0, [](const Vec2& y) { return std::exp(3.0 * y[0]); });
+  const double radial = AgreementOf<2>(ellipse, 9.0, [](const Vec2& y) { return std::cosh(3.0 * y.norm()); });
+  const double constant = AgreementOf<2>(circle, 9.0, [](const Vec2&) { return 1.0; });
+  const SimplexMesh<3> sphere = MakeIcosphere(3);
+  const double planeWave3 = AgreementOf<3>(sphere, 4.0, [](const Vec3& y) { return std::exp(2.0 * y[0]); });
+  const double twoSides = AgreementOf<3>(sphere, 4.0, [](const Vec3& y) { return std::cosh(2.0 * y[0]); });
+  std::printf("agreement: plane waves %.3f (2D) %.3f (3D); radial %.3f, constant %.3f, two sides %.3f\n",
+    planeWave2, planeWave3, radial, constant, twoSides);
+  EXPECT_GE(planeWave2, 0.9);
+  EXPECT_GE(planeWave3, 0.9);
+  EXPECT_LT(radial, 0.5);
+  EXPECT_LT(constant, 0.5);
+  EXPECT_LT(twoSides, 0.5);
 }
 } // namespace
