@@ -486,8 +486,9 @@ public:
    * SCREENED_STEPS_AUTOMATIC (the default) guides when there is no source
    * and √c times the boundary's diagonal is at least 10, or, under milder
    * screening, when the data lead one way (the guide's directions from
-   * points inside the mesh agree, as for a plane wave) and Peak Steps do
-   * not take the walk. Guided steps need a mesh boundary
+   * points inside the mesh agree, as for a plane wave), there is no
+   * source, and Peak Steps is Automatic and does not take the walk. Guided
+   * steps need a mesh boundary
    * (gridfree/estimators/ScreenedGuide.h).
    */
   virtual void SetScreenedSteps(int value); // a value out of range is an error
