@@ -6,9 +6,15 @@ centers)? Screened Poisson, c = 9 on the unit disk with u = e^{3x}, and
 c = 4 in the unit ball with u = e^{2x}; 300 random points each (seed 5),
 walk seed 3 unless told.
 
+With --source, screened problems with a volume source instead, radial
+data plus a tilt: u = I0(3r) + 5 + 2x on the disk (c = 9, f = −45 − 18x) and
+u = sinh(2r)/(2r) + 5 + 2x in the ball (c = 4, f = −20 − 8x), the source
+given as an expression in x (whose range the solver samples) and, for
+comparison, under Source Sampling Uniform (whose samples it cannot bound).
+
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
         Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4] [--seed 3] \\
-        [--screened-steps 0]
+        [--screened-steps 0] [--source]
 
 Prints, per case and data: points, mean z², largest |z|, points flagged and
 points missed (|z| > 5 and not flagged), the mean z² of the flagged and
@@ -27,10 +33,11 @@ sys.path.insert(0, os.path.join(HERE, "..", "Python"))
 
 import gridfree  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
-from gridfree_testing import circle_boundary, point_cloud, sphere_boundary  # noqa: E402
+from gridfree_testing import (  # noqa: E402
+    bessel_i0, circle_boundary, point_cloud, sphere_boundary)
 
 
-def solve(boundary, points, exact, screening, expression, args):
+def solve(boundary, points, exact, screening, expression, args, source=None, label=None):
     solver = gridfree.vtkWalkOnSpheresSolver()
     solver.SetBoundaryData(boundary)
     solver.SetProbeData(point_cloud(points))
@@ -43,6 +50,9 @@ def solve(boundary, points, exact, screening, expression, args):
     solver.SetScreenedSteps(args.screened_steps)
     if expression:
         solver.SetBoundaryValueExpression(expression)
+    if source:
+        solver.SetSourceExpression(source[0])
+        solver.SetSourceSampling(source[1])
     start = time.perf_counter()
     solver.Update()
     seconds = time.perf_counter() - start
@@ -64,9 +74,9 @@ def solve(boundary, points, exact, screening, expression, args):
 
     # The flagged points' mean z² against the others' says whether the flags
     # are right (their bars measurably too small) or false alarms.
-    print("  %-10s points %d, mean z² %.2f, largest |z| %.2f, flagged %d, missed %d; "
+    print("  %-12s points %d, mean z² %.2f, largest |z| %.2f, flagged %d, missed %d; "
           "mean z² of flagged / unflagged points %.2f / %.2f; RMS error %.2e, %.2f s" % (
-              "expression" if expression else "array", len(z), mean_z2(z),
+              label or ("expression" if expression else "array"), len(z), mean_z2(z),
               max(abs(v) for v in z), len(flagged), missed, mean_z2(flagged),
               mean_z2(unflagged), rms, seconds), flush=True)
 
@@ -78,8 +88,13 @@ def main():
     parser.add_argument("--seed", type=int, default=3, help="the walks' seed")
     parser.add_argument("--screened-steps", type=int, default=0,
                         help="Screened Steps: 0 Automatic, 1 Uniform, 2 Guided")
+    parser.add_argument("--source", action="store_true",
+                        help="the cases with a volume source in x")
     args = parser.parse_args()
     rng = random.Random(5)
+    if args.source:
+        with_source(rng, args)
+        return
 
     disk = []
     while len(disk) < 300:
@@ -102,6 +117,36 @@ def main():
         args.walks, args.walk_on, args.seed))
     for expression in (None, "exp(2*x)"):
         solve(sphere_boundary(exact), ball, exact, 4.0, expression, args)
+
+
+def with_source(rng, args):
+    automatic = gridfree.vtkWalkOnSpheresSolver.AUTOMATIC_SOURCE_SAMPLING
+    uniform = gridfree.vtkWalkOnSpheresSolver.UNIFORM
+    disk = []
+    while len(disk) < 300:
+        x, y = rng.uniform(-1, 1), rng.uniform(-1, 1)
+        if x * x + y * y < 0.95 ** 2:
+            disk.append((x, y, 0.0))
+    exact = lambda x, y, z: bessel_i0(3.0 * math.hypot(x, y)) + 5.0 + 2.0 * x  # noqa: E731
+    print("2D unit disk, c = 9, u = I0(3r) + 5 + 2x, f = -45 - 18x, %d walks, walk on %d, "
+          "seed %d" % (args.walks, args.walk_on, args.seed))
+    for sampling, label in ((automatic, "sampled f"), (uniform, "uniform")):
+        solve(circle_boundary(exact), disk, exact, 9.0, None, args, ("-45 - 18*x", sampling),
+              label)
+
+    def radial(r):
+        return math.sinh(2.0 * r) / (2.0 * r) if r > 1e-8 else 1.0
+
+    ball = []
+    while len(ball) < 300:
+        x, y, z = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)
+        if x * x + y * y + z * z < 0.9 ** 2:
+            ball.append((x, y, z))
+    exact = lambda x, y, z: radial(math.sqrt(x * x + y * y + z * z)) + 5.0 + 2.0 * x  # noqa: E731
+    print("3D unit ball, c = 4, u = sinh(2r)/(2r) + 5 + 2x, f = -20 - 8x, %d walks, walk on %d, "
+          "seed %d" % (args.walks, args.walk_on, args.seed))
+    for sampling, label in ((automatic, "sampled f"), (uniform, "uniform")):
+        solve(sphere_boundary(exact), ball, exact, 4.0, None, args, ("-20 - 8*x", sampling), label)
 
 
 if __name__ == "__main__":

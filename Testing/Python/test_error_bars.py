@@ -15,6 +15,7 @@ from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkPolyData  # noqa: E402
 from gridfree_testing import (  # noqa: E402
     MessageCatcher,
+    bessel_i0,
     circle_boundary,
     sphere_boundary,
     z_scores,
@@ -265,37 +266,36 @@ def test_target_mode_walks_on_at_unreliable_points():
     assert all(counts.GetValue(i) == 128 for i in range(100))
 
 
-def bessel_i0(x):
-    """I0(x) by its power series (ample for |x| < 5)."""
-    term, total = 1.0, 1.0
-    for k in range(1, 40):
-        term *= (x / (2.0 * k)) ** 2
-        total += term
-    return total
-
-
-def test_a_constant_source_bounds_the_walks_and_clears_uneven_weights():
+def test_a_bounded_source_bounds_the_walks_and_clears_uneven_weights():
     # Δu − 9u = f with u = I0(3r) + 5 on the unit disk, f = −45: the walk
     # values are W·g + (1 − W)·5 (ErrorBarReliability.h), bounded, so the
-    # weights' unevenness flags nothing while the bars are right. The same
-    # source written so that it reads x has no known range: flagged.
-    exact = lambda x, y, z: bessel_i0(3.0 * math.hypot(x, y)) + 5.0  # noqa: E731
-    boundary = circle_boundary(exact)
+    # weights' unevenness flags nothing while the bars are right. The
+    # source written so that it reads x (u = I0(3r) + 5 + 2x, f = −45 − 18x)
+    # states no range; the problem samples it (SourceDensityMap's samples),
+    # and its points are judged alike (42 of 100 were flagged before, with
+    # right bars). Source Sampling Uniform takes samples that are unbounded
+    # near the walker: there the weights flag points.
+    base = lambda x, y, z: bessel_i0(3.0 * math.hypot(x, y)) + 5.0  # noqa: E731
+    tilted = lambda x, y, z: base(x, y, z) + 2.0 * x  # noqa: E731
     flagged = {}
-    for expression in ("-45", "-45 + 0*x"):
-        solver = solver_for(boundary, DISK_LINE, 256, screening=9.0)
+    for expression, exact, uniform in (("-45", base, False), ("-45 - 18*x", tilted, False),
+                                       ("-45 - 18*x", tilted, True)):
+        solver = solver_for(circle_boundary(exact), DISK_LINE, 256, screening=9.0)
         solver.SetSourceExpression(expression)
+        if uniform:
+            solver.SetSourceSampling(gridfree.vtkWalkOnSpheresSolver.UNIFORM)
         catcher = MessageCatcher(solver)
         solver.Update()
         output = solver.GetOutput()
         assert all(abs(z) < 5.0 for z in z_scores(output, exact))
-        flagged[expression] = flags(output).count(0)
-        if flagged[expression]:
+        flagged[expression, uniform] = flags(output).count(0)
+        if flagged[expression, uniform]:
             # Every flagged point is counted under its reason.
             assert ("%d of them because their walks' screening weights are very uneven"
-                    % flagged[expression]) in catcher.warning_text()
-    assert flagged["-45"] == 0
-    assert flagged["-45 + 0*x"] > 10, flagged
+                    % flagged[expression, uniform]) in catcher.warning_text()
+    assert flagged["-45", False] == 0
+    assert flagged["-45 - 18*x", False] == 0
+    assert flagged["-45 - 18*x", True] > 10, flagged
 
 
 def test_near_boundary_splitting_walks_on_only_near_the_boundary():

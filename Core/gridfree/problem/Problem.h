@@ -202,6 +202,12 @@ private:
     if ((screened || harmonic) && !this->Mixed && !this->Coefficients && !this->Guide &&
       !this->Peak)
     {
+      if (screened && this->SampledSourceLow.empty() && this->SourceStatesNoRange())
+      {
+        // Sampling chosen by hand: Automatic's map, which samples f, was
+        // not built.
+        this->KeepSampledSourceRange(this->MakeSourceDensityMap().get());
+      }
       const std::size_t nc = static_cast<std::size_t>(this->Shape->Components());
       std::vector<double> low, high, steadyLow(nc), steadyHigh(nc);
       bool known = this->Shape->ValueRanges(low, high);
@@ -337,9 +343,28 @@ private:
     }
     double fLow = 0.0, fHigh = 0.0;
     const std::unique_ptr<VolumeSource<DIM>> volume = s.MakeVolume(this->Shape->Diagonal());
-    if (!volume || !volume->ValueBounds(c, fLow, fHigh))
+    if (!volume)
     {
       return false;
+    }
+    if (!volume->ValueBounds(c, fLow, fHigh))
+    {
+      // A source that states no range (an expression of x, y, z): its
+      // samples' (SampledSourceRange), with the 0 it takes outside its
+      // support.
+      const std::size_t k = static_cast<std::size_t>(c);
+      if (k >= this->SampledSourceLow.size())
+      {
+        return false;
+      }
+      fLow = this->SampledSourceLow[k];
+      fHigh = this->SampledSourceHigh[k];
+      Vec<DIM> lo, hi;
+      if (volume->SupportBounds(lo, hi))
+      {
+        fLow = std::min(fLow, 0.0);
+        fHigh = std::max(fHigh, 0.0);
+      }
     }
     const double sc = this->Walk.ScreeningCoefficient;
     if (this->Walk.Sampling == SourceSampling::GreensFunction)
@@ -358,6 +383,11 @@ private:
 public:
 
   const Boundary<DIM>& GetBoundary() const { return *this->Shape; }
+
+  // Whether every walk's value lies in a known range (the Dirichlet data's
+  // and the source's), which lets the error bars' signs tell an unseen
+  // walk's reach (ErrorBar, ErrorBarReliability.h).
+  bool WalkValuesBounded() const { return !this->BoundedWalks.WalkLow.empty(); }
   // Whether screened walks take guided steps (GuidesScreenedSteps).
   bool StepsAreGuided() const { return this->Guide != nullptr; }
   // Whether steps lean toward the data's peak (MayGuideTowardPeak).
@@ -674,11 +704,49 @@ private:
     }
     this->Walk.Sampling = SourceSampling::GreensFunction;
     std::shared_ptr<const SourceDensityMap<DIM>> map = this->MakeSourceDensityMap();
+    this->KeepSampledSourceRange(map.get());
     if (map && !map->Empty() && map->HalfMassCellShare() <= kNarrowSourceShare)
     {
       this->Walk.Sampling = SourceSampling::SourceDensity;
       this->Density = std::move(map);
     }
+  }
+
+  // f's range over a source map's samples (SourceDensityMap::SampledRange),
+  // for the error bars' bounds where the source states none (SteadyRange);
+  // empty where a component's is unknown.
+  void KeepSampledSourceRange(const SourceDensityMap<DIM>* map)
+  {
+    this->SampledSourceLow.clear();
+    this->SampledSourceHigh.clear();
+    const int nc = map ? this->Shape->Components() : 0;
+    for (int c = 0; c < nc; ++c)
+    {
+      double low = 0.0, high = 0.0;
+      if (!map->SampledRange(c, low, high))
+      {
+        this->SampledSourceLow.clear();
+        this->SampledSourceHigh.clear();
+        return;
+      }
+      this->SampledSourceLow.push_back(low);
+      this->SampledSourceHigh.push_back(high);
+    }
+  }
+
+  // Whether a volume source leaves some component's range unstated.
+  bool SourceStatesNoRange() const
+  {
+    const std::unique_ptr<VolumeSource<DIM>> volume = this->MakeVolume();
+    double low = 0.0, high = 0.0;
+    for (int c = 0; volume && c < this->Shape->Components(); ++c)
+    {
+      if (!volume->ValueBounds(c, low, high))
+      {
+        return true;
+      }
+    }
+    return false;
   }
 
   // Source-density sampling's map, unless Automatic built it already.
@@ -730,6 +798,7 @@ private:
   std::shared_ptr<const PolynomialShift<DIM>> Shift;
   std::shared_ptr<const CoefficientModel<DIM>> Coefficients;
   std::shared_ptr<const SourceDensityMap<DIM>> Density;
+  std::vector<double> SampledSourceLow, SampledSourceHigh; // KeepSampledSourceRange
   std::shared_ptr<const ScreenedGuide<DIM>> Guide; // guided screened steps, or null
   bool GuideLeadsMildly = false;                    // chosen by LeadingGuide
   std::shared_ptr<const PeakGuide<DIM>> Peak;      // steps toward the data's peak, or null

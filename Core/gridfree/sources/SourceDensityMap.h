@@ -20,6 +20,10 @@
 // that covers the whole ball (balance heuristic), so the estimate stays
 // unbiased whatever the masses: they only set the variance. The map is a
 // pure function of f and the box, built once, read by every thread.
+//
+// Its samples also give f's range (SampledRange) where a source states
+// none, for the error bars' bounds of screened walks (Problem::SteadyRange):
+// Automatic sampling builds the map for its choice anyway.
 #ifndef GRIDFREE_SOURCES_SOURCE_DENSITY_MAP_H
 #define GRIDFREE_SOURCES_SOURCE_DENSITY_MAP_H
 
@@ -33,6 +37,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace gridfree
@@ -46,7 +51,8 @@ public:
   /// Evaluate(y, f) writing `components` numbers) at every
   /// cell's corners and centre. An empty or degenerate box, or a source
   /// that is zero at every sample, gives an empty map, which samples
-  /// nothing (Empty()).
+  /// nothing (Empty()); the samples' range (SampledRange) is kept either
+  /// way.
   template <class Source>
   void Build(Source& source, int components, const BoundingBox<DIM>& box,
     std::size_t cells = 32768)
@@ -85,17 +91,20 @@ public:
       vertexCount[k] = this->Cells[k] + 1;
       vertices *= static_cast<std::size_t>(vertexCount[k]);
     }
-    std::vector<double> f(static_cast<std::size_t>(components));
-    auto magnitude = [&](const Vec<DIM>& y) {
-      source.Evaluate(y, f.data());
+    // f's components at every vertex, kept for the cells' signed ranges.
+    const std::size_t nc = static_cast<std::size_t>(components);
+    std::vector<double> f(nc);
+    auto magnitude = [&](const Vec<DIM>& y, double* values) {
+      source.Evaluate(y, values);
       double largest = 0.0;
-      for (double v : f)
+      for (std::size_t i = 0; i < nc; ++i)
       {
-        largest = std::max(largest, std::abs(v)); // NaN is dropped
+        largest = std::max(largest, std::abs(values[i])); // NaN is dropped
       }
       return largest;
     };
     std::vector<double> atVertex(vertices);
+    std::vector<double> vertexValues(vertices * nc);
     for (std::size_t v = 0; v < vertices; ++v)
     {
       std::array<int, DIM> index;
@@ -105,14 +114,20 @@ public:
         index[k] = static_cast<int>(rest % static_cast<std::size_t>(vertexCount[k]));
         rest /= static_cast<std::size_t>(vertexCount[k]);
       }
-      atVertex[v] = magnitude(this->Corner(index));
+      atVertex[v] = magnitude(this->Corner(index), &vertexValues[v * nc]);
     }
+    std::vector<double> low(nc, std::numeric_limits<double>::infinity());
+    std::vector<double> high(nc, -std::numeric_limits<double>::infinity());
+    std::vector<double> cellLow(nc), cellHigh(nc);
+    bool finite = true;
     std::vector<double> mass(total);
     double sum = 0.0;
     for (std::size_t c = 0; c < total; ++c)
     {
       const std::array<int, DIM> index = this->CellIndex(c);
-      double largest = magnitude(this->Corner(index) + Vec<DIM>::Constant(0.5 * this->Cell));
+      double largest = magnitude(this->Corner(index) + Vec<DIM>::Constant(0.5 * this->Cell), f.data());
+      cellLow = f;
+      cellHigh = f;
       for (int corner = 0; corner < (1 << DIM); ++corner)
       {
         std::size_t at = 0;
@@ -123,21 +138,53 @@ public:
           stride *= static_cast<std::size_t>(vertexCount[k]);
         }
         largest = std::max(largest, atVertex[at]);
+        for (std::size_t i = 0; i < nc; ++i)
+        {
+          cellLow[i] = std::min(cellLow[i], vertexValues[at * nc + i]);
+          cellHigh[i] = std::max(cellHigh[i], vertexValues[at * nc + i]);
+        }
       }
       mass[c] = std::isfinite(largest) ? largest * this->CellVolume : 0.0;
       sum += mass[c];
+      // A cell's samples widened by their own spread: a function the grid
+      // resolves does not leave that band between them.
+      for (std::size_t i = 0; i < nc; ++i)
+      {
+        const double spread = cellHigh[i] - cellLow[i];
+        finite = finite && std::isfinite(spread);
+        low[i] = std::min(low[i], cellLow[i] - spread);
+        high[i] = std::max(high[i], cellHigh[i] + spread);
+      }
     }
     if (!(sum > 0.0) || !std::isfinite(sum))
     {
       *this = SourceDensityMap();
+      this->KeepRange(finite, std::move(low), std::move(high));
       return;
     }
+    this->KeepRange(finite, std::move(low), std::move(high));
     this->TotalMass = sum;
     this->Mass = mass;
     this->BuildAliasTable(mass, sum);
   }
 
   bool Empty() const { return this->Mass.empty(); }
+
+  /// f's component c over the map's samples, each cell's widened by its
+  /// own samples' spread: not a bound (a peak narrower than a cell can pass
+  /// between them), so only the error bars' reliability signs read it
+  /// (Problem::SteadyRange). False before Build, for a degenerate box and
+  /// where a sample was not finite.
+  bool SampledRange(int c, double& lowest, double& highest) const
+  {
+    if (c < 0 || static_cast<std::size_t>(c) >= this->RangeLow.size())
+    {
+      return false;
+    }
+    lowest = this->RangeLow[static_cast<std::size_t>(c)];
+    highest = this->RangeHigh[static_cast<std::size_t>(c)];
+    return true;
+  }
 
   // The share of the cells that hold half of the mass (the heaviest first):
   // small for a source concentrated in a small part of the box, about a
@@ -203,6 +250,15 @@ public:
   }
 
 private:
+  void KeepRange(bool finite, std::vector<double> low, std::vector<double> high)
+  {
+    if (finite)
+    {
+      this->RangeLow = std::move(low);
+      this->RangeHigh = std::move(high);
+    }
+  }
+
   std::array<int, DIM> CellIndex(std::size_t c) const
   {
     std::array<int, DIM> index;
@@ -272,6 +328,7 @@ private:
   std::vector<double> Mass;
   std::vector<double> Probability;
   std::vector<std::size_t> Alias;
+  std::vector<double> RangeLow, RangeHigh; // SampledRange, per component
 };
 } // namespace gridfree
 

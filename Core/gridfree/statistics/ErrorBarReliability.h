@@ -68,7 +68,8 @@
 // The bound: the plain screened walk with Dirichlet data in [g_min, g_max]
 // and a volume source in [f_min, f_max] sampled by G gives values
 // W·g + (1 − W)·v, with v within the steady values [−f_max/c, −f_min/c]
-// (Problem::SteadyRange) and W the weight the walk kept (0 ≤ W ≤ 1; g
+// (Problem::SteadyRange; f's range as the source states it, else as its
+// samples on the source map's grid show it) and W the weight the walk kept (0 ≤ W ≤ 1; g
 // taken with 0, for walks cut short). W is at most the first ball's C,
 // which every walk of the point shares (WalkCounters::WeightReach): deep in
 // a strongly screened domain no walk, seen or not, can bring back much of
