@@ -509,13 +509,15 @@ public:
    * the boundary): PEAK_STEPS_GUIDED draws 70% of the landing points with
    * density proportional to e^{−√c·s}/s, s the distance to the data's
    * largest |g| or to one of up to three more peaks at least a quarter as
-   * high (1/s for the Laplace and Poisson equations), and reweights
+   * high (1/s for the Laplace and Poisson equations; K0(√c·s) in 2D),
+   * and reweights
    * them (unbiased). Uniform steps rarely end on such a peak, which carries
    * much of the answer far from it, and their error bars come out too
    * small. PEAK_STEPS_AUTOMATIC (the default) leans where the largest |g| is
    * at least 10 times the area-weighted mean |g|, with no source, no
    * polynomial control variate, and no guided screened steps (nor Screened
-   * Steps set to uniform). 3D meshes with Dirichlet data only
+   * Steps set to uniform). Meshes with Dirichlet data only, in 3D and
+   * (the screened equation) in 2D
    * (gridfree/estimators/PeakGuide.h).
    */
   virtual void SetPeakSteps(int value); // a value out of range is an error

@@ -492,16 +492,9 @@ private:
         // stays an unbiased mean over the sphere; m̄ and b̄·ν, constants
         // or of mean 0 over it, keep their roles). A pair shares it.
         double lean = 1.0;
-        Vec<DIM> firstNu;
-        if constexpr (DIM == 3)
-        {
-          firstNu = this->FirstBallPeak ? this->FirstBallPeak->Step(centre, radius, rng, lean)
-                                        : SampleUnitSphere<DIM>(rng);
-        }
-        else
-        {
-          firstNu = SampleUnitSphere<DIM>(rng);
-        }
+        const Vec<DIM> firstNu = this->FirstBallPeak
+          ? this->FirstBallPeak->Step(centre, radius, rng, lean)
+          : SampleUnitSphere<DIM>(rng);
         const RandomStream replay = rng; // the pair's second walk replays the first's numbers
         const int sides = this->Request.AntitheticPairs ? 2 : 1;
         for (int side = 0; side < sides; ++side)

@@ -582,19 +582,16 @@ private:
           }
         }
 
-        if constexpr (DIM == 3)
+        if (!guided && this->Peak)
         {
-          if (!guided && this->Peak)
+          // Toward the data's peak: the factor U/q ≤ 1/(1 − α) (PeakGuide.h).
+          double factor = 1.0;
+          direction = this->Peak->Step(x, radius, rng, factor);
+          guided = true;
+          weight *= factor;
+          if (steps == 0)
           {
-            // Toward the data's peak: the factor U/q ≤ 1/(1 − α) (PeakGuide.h).
-            double factor = 1.0;
-            direction = this->Peak->Step(x, radius, rng, factor);
-            guided = true;
-            weight *= factor;
-            if (steps == 0)
-            {
-              this->FirstWeight *= PeakGuide<DIM>::LargestFactor();
-            }
+            this->FirstWeight *= PeakGuide<DIM>::LargestFactor();
           }
         }
         x += radius * (guided ? direction : SampleUnitSphere<DIM>(rng));

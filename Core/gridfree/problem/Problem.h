@@ -170,17 +170,14 @@ private:
         this->Guide = std::move(guide);
       }
     }
-    if constexpr (DIM == 3)
+    if (this->MayGuideTowardPeak())
     {
-      if (this->MayGuideTowardPeak())
+      auto peak = std::make_shared<const PeakGuide<DIM>>(
+        *this->Shape, this->Walk.Problem == Equation::ScreenedPoisson ? this->Walk.ScreeningCoefficient : 0.0);
+      if (peak->Found() && (this->Walk.PeakGuiding == PeakSteps::Guided ||
+                             peak->StandsOut() >= PeakGuide<DIM>::kStandsOut))
       {
-        auto peak = std::make_shared<const PeakGuide<DIM>>(
-          *this->Shape, this->Walk.Problem == Equation::ScreenedPoisson ? this->Walk.ScreeningCoefficient : 0.0);
-        if (peak->Found() && (this->Walk.PeakGuiding == PeakSteps::Guided ||
-                               peak->StandsOut() >= PeakGuide<DIM>::kStandsOut))
-        {
-          this->Peak = std::move(peak);
-        }
+        this->Peak = std::move(peak);
       }
     }
     if (!this->Guide && !this->Peak)
@@ -289,9 +286,9 @@ private:
       : nullptr;
   }
 
-  // Steps toward the data's peak (PeakGuide.h): walk on spheres on a 3D
+  // Steps toward the data's peak (PeakGuide.h): walk on spheres on a
   // mesh with Dirichlet data, for the Laplace, Poisson and screened
-  // equations, where no screened guide leads the steps. Automatic also
+  // equations (in 2D the screened equation only), where no screened guide leads the steps. Automatic also
   // leaves alone problems with sources (their answer comes from the volume
   // too), screened problems whose steps were asked to be uniform, and
   // (SetPolynomialShift) the data of a polynomial control variate, g − P,
@@ -299,9 +296,10 @@ private:
   bool MayGuideTowardPeak() const
   {
     const Equation e = this->Walk.Problem;
-    if (DIM != 3 || this->Mixed || this->Coefficients || !this->Shape->IsMesh() || this->Guide ||
+    if (this->Mixed || this->Coefficients || !this->Shape->IsMesh() || this->Guide ||
       this->Walk.PeakGuiding == PeakSteps::Uniform ||
-      !(e == Equation::Laplace || e == Equation::Poisson || e == Equation::ScreenedPoisson))
+      !(e == Equation::Laplace || e == Equation::Poisson || e == Equation::ScreenedPoisson) ||
+      (DIM == 2 && e != Equation::ScreenedPoisson))
     {
       return false;
     }
