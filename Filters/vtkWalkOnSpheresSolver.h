@@ -510,8 +510,7 @@ public:
    * density proportional to e^{−√c·s}/s, s the distance to the data's
    * largest |g| or to one of up to three more peaks at least a quarter as
    * high (1/s for the Laplace and Poisson equations; K0(√c·s) in 2D),
-   * and reweights
-   * them (unbiased). Uniform steps rarely end on such a peak, which carries
+   * and reweights them (unbiased). Uniform steps rarely end on such a peak, which carries
    * much of the answer far from it, and their error bars come out too
    * small. PEAK_STEPS_AUTOMATIC (the default) leans where the largest |g| is
    * at least 10 times the area-weighted mean |g|, with no source, no

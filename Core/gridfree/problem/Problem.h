@@ -288,8 +288,8 @@ private:
 
   // Steps toward the data's peak (PeakGuide.h): walk on spheres on a
   // mesh with Dirichlet data, for the Laplace, Poisson and screened
-  // equations (in 2D the screened equation only), where no screened guide leads the steps. Automatic also
-  // leaves alone problems with sources (their answer comes from the volume
+  // equations (in 2D the screened equation only), where no screened guide
+  // leads the steps. Automatic also leaves alone problems with sources (their answer comes from the volume
   // too), screened problems whose steps were asked to be uniform, and
   // (SetPolynomialShift) the data of a polynomial control variate, g − P,
   // whose largest values are a fit's residuals rather than a peak.

@@ -69,8 +69,8 @@
 // and a volume source in [f_min, f_max] sampled by G gives values
 // W·g + (1 − W)·v, with v within the steady values [−f_max/c, −f_min/c]
 // (Problem::SteadyRange; f's range as the source states it, else as its
-// samples on the source map's grid show it) and W the weight the walk kept (0 ≤ W ≤ 1; g
-// taken with 0, for walks cut short). W is at most the first ball's C,
+// samples on the source map's grid show it) and W the weight the walk
+// kept (0 ≤ W ≤ 1; g taken with 0, for walks cut short). W is at most the first ball's C,
 // which every walk of the point shares (WalkCounters::WeightReach): deep in
 // a strongly screened domain no walk, seen or not, can bring back much of
 // g, and the bound shrinks with that C. (The CT head's bioheat solve with
