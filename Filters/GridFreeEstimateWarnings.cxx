@@ -88,9 +88,8 @@ void WarnAboutUnreliableErrorBars(
         << " of them because their walks' screening weights are very uneven (the screening "
            "length 1/sqrt(ScreeningCoefficient) is short against the distance to the "
            "boundary): their value rests on rare walks, and more walks do not remove the "
-           "doubt. ScreenedSteps = Guided lands the steps where the answer comes from "
-           "(a mesh boundary); or compare solves with different seeds and walk counts "
-           "before using them.";
+           "doubt. ScreenedSteps = Guided lands the steps where the answer comes from; "
+           "or compare solves with different seeds and walk counts before using them.";
   }
   if (f.OneWalkSpread > 0)
   {

@@ -12,9 +12,15 @@ u = sinh(2r)/(2r) + 5 + 2x in the ball (c = 4, f = −20 − 8x), the source
 given as an expression in x (whose range the solver samples) and, for
 comparison, under Source Sampling Uniform (whose samples it cannot bound).
 
+With --other-geometry, boundaries that are not meshes, their data from
+Boundary Value Expression: an implicit unit sphere (vtkSignedDistanceSphere)
+with u = e^{2x} at c = 4 and with the plane wave u = e^{20x - 10} at
+c = 400, and the unit circle as eight cubic Bézier arcs with u = e^{3x} at
+c = 9 (the data are exact wherever they are read, round or not).
+
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
         Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4] [--seed 3] \\
-        [--screened-steps 0] [--source]
+        [--screened-steps 0] [--source | --other-geometry]
 
 Prints, per case and data: points, mean z², largest |z|, points flagged and
 points missed (|z| > 5 and not flagged), the mean z² of the flagged and
@@ -32,14 +38,19 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "Python"))
 
 import gridfree  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkDataObject  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataObject, vtkPolyData  # noqa: E402
 from gridfree_testing import (  # noqa: E402
     bessel_i0, circle_boundary, point_cloud, sphere_boundary)
 
 
-def solve(boundary, points, exact, screening, expression, args, source=None, label=None):
+def solve(boundary, points, exact, screening, expression, args, source=None, label=None,
+          implicit=None):
     solver = gridfree.vtkWalkOnSpheresSolver()
-    solver.SetBoundaryData(boundary)
+    if implicit:
+        solver.SetImplicitBoundary(implicit)
+    else:
+        solver.SetBoundaryData(boundary)
     solver.SetProbeData(point_cloud(points))
     solver.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, "T")
     solver.SetWalksPerPoint(args.walks)
@@ -90,10 +101,15 @@ def main():
                         help="Screened Steps: 0 Automatic, 1 Uniform, 2 Guided")
     parser.add_argument("--source", action="store_true",
                         help="the cases with a volume source in x")
+    parser.add_argument("--other-geometry", action="store_true",
+                        help="implicit and Bezier boundaries")
     args = parser.parse_args()
     rng = random.Random(5)
     if args.source:
         with_source(rng, args)
+        return
+    if args.other_geometry:
+        other_geometry(rng, args)
         return
 
     disk = []
@@ -147,6 +163,57 @@ def with_source(rng, args):
           "seed %d" % (args.walks, args.walk_on, args.seed))
     for sampling, label in ((automatic, "sampled f"), (uniform, "uniform")):
         solve(sphere_boundary(exact), ball, exact, 4.0, None, args, ("-20 - 8*x", sampling), label)
+
+
+def bezier_circle(arcs=8):
+    """The unit circle as `arcs` cubic Bézier arcs (handles at
+    4/3 tan(pi / (2 arcs))), one closed polyline marked BezierControlPoints."""
+    handle = 4.0 / 3.0 * math.tan(math.pi / (2 * arcs))
+    points = vtkPoints()
+    points.SetDataTypeToDouble()
+    for i in range(arcs):
+        a0, a1 = 2 * math.pi * i / arcs, 2 * math.pi * (i + 1) / arcs
+        p0 = (math.cos(a0), math.sin(a0))
+        p3 = (math.cos(a1), math.sin(a1))
+        points.InsertNextPoint(p0[0], p0[1], 0.0)
+        points.InsertNextPoint(p0[0] - handle * p0[1], p0[1] + handle * p0[0], 0.0)
+        points.InsertNextPoint(p3[0] + handle * p3[1], p3[1] - handle * p3[0], 0.0)
+    lines = vtkCellArray()
+    lines.InsertNextCell(3 * arcs + 1)
+    for i in range(3 * arcs + 1):
+        lines.InsertCellPoint(i % (3 * arcs))
+    marks = vtkIntArray()
+    marks.SetName("BezierControlPoints")
+    marks.InsertNextValue(1)
+    curve = vtkPolyData()
+    curve.SetPoints(points)
+    curve.SetLines(lines)
+    curve.GetCellData().AddArray(marks)
+    return curve
+
+
+def other_geometry(rng, args):
+    ball = []
+    while len(ball) < 300:
+        x, y, z = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)
+        if x * x + y * y + z * z < 0.9 ** 2:
+            ball.append((x, y, z))
+    sphere = gridfree.vtkSignedDistanceSphere()
+    sphere.SetRadius(1.0)
+    print("3D implicit unit sphere, %d walks, walk on %d, seed %d, Screened Steps %d" % (
+        args.walks, args.walk_on, args.seed, args.screened_steps))
+    solve(None, ball, lambda x, y, z: math.exp(2.0 * x), 4.0, "exp(2*x)", args,
+          label="c = 4", implicit=sphere)
+    solve(None, ball, lambda x, y, z: math.exp(20.0 * x - 10.0), 400.0, "exp(20*x - 10)", args,
+          label="c = 400", implicit=sphere)
+    disk = []
+    while len(disk) < 300:
+        x, y = rng.uniform(-1, 1), rng.uniform(-1, 1)
+        if x * x + y * y < 0.95 ** 2:
+            disk.append((x, y, 0.0))
+    print("2D circle of 8 Bezier arcs, c = 9, u = e^{3x}")
+    solve(bezier_circle(), disk, lambda x, y, z: math.exp(3.0 * x), 9.0, "exp(3*x)", args,
+          label="Bezier")
 
 
 if __name__ == "__main__":

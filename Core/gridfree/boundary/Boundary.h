@@ -206,12 +206,13 @@ public:
   // error bars' reliability signs (ErrorBarReliability.h): a value table's
   // exact range (ValueBounds), or, for values from a function on a mesh
   // (an expression, an image probed at the boundary), the range of the
-  // values at every vertex and every primitive's centroid. Those samples
+  // values at every vertex and every primitive's centroid; on another
+  // geometry (implicit, CSG, Bézier curves), at GeometrySamples' points. Those samples
   // are not a bound (a function may peak between them), so nothing that
   // must be exact (whether a flux is zero) reads them; for the signs a
   // range a little short of the truth only makes an unseen walk look a
-  // little nearer. False for other geometries, for shifted values and where
-  // a sample is not finite. A function's samples are taken once per
+  // little nearer. False for shifted values, where a sample is not finite
+  // and where none was found. A function's samples are taken once per
   // boundary (the first call; later calls, from the problems a filter
   // builds on each update, read them).
   bool ValueRanges(std::vector<double>& lowest, std::vector<double>& highest) const
@@ -230,7 +231,7 @@ public:
       }
       return true;
     }
-    if (this->Shape || this->Shift || this->Primitives.empty())
+    if (this->Shift || (!this->Shape && this->Primitives.empty()))
     {
       return false;
     }
@@ -244,6 +245,26 @@ public:
     highest = cache.High;
     return cache.Known;
   }
+  // Boundary points of a geometry that is not a mesh (empty for a mesh),
+  // which has no vertices to read: the closest points of the centres of a
+  // lattice over the box (kRangeLatticeCells per axis) that lie within a
+  // cell's diagonal of the boundary, a band that every part of the boundary
+  // wider than a cell crosses. A projection that did not reach the boundary
+  // (an implicit function's Newton steps, far from a surface whose function
+  // is no distance) is left out. Taken once per geometry; ValueRanges and
+  // the screened guide read them.
+  const std::vector<ClosestPointResult<DIM>>& GeometrySamples() const
+  {
+    static const std::vector<ClosestPointResult<DIM>> none;
+    if (!this->Shape || !this->GeometryHits)
+    {
+      return none;
+    }
+    SampledHits& cache = *this->GeometryHits;
+    std::call_once(cache.Once, [&]() { cache.Hits = this->ProjectLattice(); });
+    return cache.Hits;
+  }
+
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
   const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }
@@ -404,8 +425,9 @@ public:
   }
 
 private:
-  // A function's range at every vertex and primitive centroid
-  // (ValueRanges); false where a sample is not finite.
+  // A function's range at every vertex and primitive centroid, or at
+  // GeometrySamples' points (ValueRanges); false where a sample is not
+  // finite or where there is none.
   bool SampleFunction(std::vector<double>& lowest, std::vector<double>& highest) const
   {
     const std::size_t own = static_cast<std::size_t>(this->Components());
@@ -423,6 +445,14 @@ private:
         highest[c] = std::max(highest[c], value[i]);
       }
     };
+    if (this->Shape)
+    {
+      for (const ClosestPointResult<DIM>& hit : this->GeometrySamples())
+      {
+        take(hit);
+      }
+      return finite && own > 0 && lowest[0] <= highest[0];
+    }
     // Each vertex once, read through the first primitive that holds it.
     std::vector<char> seen(this->Vertices.size(), 0);
     for (std::size_t i = 0; i < this->Primitives.size() && finite; ++i)
@@ -451,6 +481,42 @@ private:
       }
     }
     return finite;
+  }
+
+  // GeometrySamples' points, in the lattice's order.
+  std::vector<ClosestPointResult<DIM>> ProjectLattice() const
+  {
+    constexpr int n = kRangeLatticeCells;
+    const Vec<DIM> cell = (this->Max - this->Min) / n;
+    const double reach = cell.norm();
+    const double onBoundary = 1e-6 * std::max(this->Diagonal(), 1e-300);
+    long long count = 1;
+    for (int k = 0; k < DIM; ++k)
+    {
+      count *= n;
+    }
+    std::vector<ClosestPointResult<DIM>> hits;
+    for (long long index = 0; index < count; ++index)
+    {
+      Vec<DIM> x;
+      long long rest = index;
+      for (int k = 0; k < DIM; ++k)
+      {
+        x[k] = this->Min[k] + (static_cast<double>(rest % n) + 0.5) * cell[k];
+        rest /= n;
+      }
+      if (!(this->Shape->Distance(x) <= reach))
+      {
+        continue;
+      }
+      const ClosestPointResult<DIM> hit = this->Shape->ClosestPoint(x);
+      if (hit.primitive >= 0 && hit.point.allFinite() &&
+        this->Shape->Distance(hit.point) <= onBoundary)
+      {
+        hits.push_back(hit);
+      }
+    }
+    return hits;
   }
 
   // One side's values (side +1 front, −1 back, 0 their mean) of a
@@ -532,6 +598,7 @@ private:
     this->Shift.reset();
     this->TwoSided = false;
     this->FunctionRanges = std::make_shared<SampledRanges>();
+    this->GeometryHits = std::make_shared<SampledHits>();
     this->Tree = Bvh<DIM>();
     this->BoundGrid = DistanceBoundGrid<DIM>();
   }
@@ -633,6 +700,16 @@ private:
     std::vector<double> Low, High;
   };
   std::shared_ptr<SampledRanges> FunctionRanges = std::make_shared<SampledRanges>();
+  // GeometrySamples, taken once per geometry (copies share them).
+  struct SampledHits
+  {
+    std::once_flag Once;
+    std::vector<ClosestPointResult<DIM>> Hits;
+  };
+  std::shared_ptr<SampledHits> GeometryHits = std::make_shared<SampledHits>();
+  // Lattice cells per axis of GeometrySamples: 32³ centres in 3D, 128² in
+  // 2D (a few milliseconds for a sphere; a CSG of meshes, a few tens).
+  static constexpr int kRangeLatticeCells = DIM == 3 ? 32 : 128;
   static constexpr std::size_t kBoundGridVertices = 300000;
   static constexpr double kBoundGridBoundRelaxation = 0.05;
   double StepRelaxation = 0.2;

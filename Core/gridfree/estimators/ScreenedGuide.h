@@ -19,7 +19,9 @@
 // bring: for large c, u(x) ≈ max_p g(p)·e^{−√c|x − p|}. Data exp(√c e·y)
 // give n = e, the plane wave's own direction; Yukawa data of a pole outside
 // give the pole's direction. The search is over the boundary's primitives'
-// centroids (a k-d tree with each node's largest log|g|, branch and bound).
+// centroids, or another geometry's sampled points (Boundary::
+// GeometrySamples), in a k-d tree with each node's largest log|g| (branch
+// and bound).
 // Any n keeps the step unbiased; a poor one costs variance only, and the
 // mixture keeps each step's factor below C/(1 − α). Guiding every screened
 // step, small balls included, matters: where a walk nears a peak of the
@@ -149,26 +151,14 @@ public:
   // can grow there (ErrorBarReliability's bounds on weights do not apply).
   static constexpr double Share = 0.9;
 
-  /// Points and values from a mesh boundary (each primitive's centroid and
-  /// the largest |g| over the components there); empty for other
-  /// geometries, and where every value is 0.
+  /// Points and values from the boundary (each primitive's centroid of a
+  /// mesh, another geometry's sampled points, and the largest |g| over the
+  /// components there); empty where every value is 0.
   ScreenedGuide(const Boundary<DIM>& boundary, double c)
     : SqrtC(std::sqrt(c))
   {
-    const auto& vertices = boundary.MeshVertices();
-    const auto& primitives = boundary.MeshPrimitives();
     std::vector<double> value(static_cast<std::size_t>(std::max(1, boundary.Components())));
-    for (std::size_t i = 0; i < primitives.size(); ++i)
-    {
-      ClosestPointResult<DIM> hit;
-      hit.point = Vec<DIM>::Zero();
-      for (int k = 0; k < DIM; ++k)
-      {
-        hit.point += vertices[static_cast<std::size_t>(primitives[i][k])] / DIM;
-      }
-      hit.primitive = static_cast<std::int64_t>(i);
-      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
-      hit.distance = 0.0;
+    auto take = [&](const ClosestPointResult<DIM>& hit) {
       boundary.Evaluate(hit, value.data());
       double largest = 0.0;
       for (double v : value)
@@ -180,6 +170,25 @@ public:
         this->Points.push_back(hit.point);
         this->LogValue.push_back(std::log(largest));
       }
+    };
+    for (const ClosestPointResult<DIM>& hit : boundary.GeometrySamples())
+    {
+      take(hit);
+    }
+    const auto& vertices = boundary.MeshVertices();
+    const auto& primitives = boundary.MeshPrimitives();
+    for (std::size_t i = 0; i < primitives.size(); ++i)
+    {
+      ClosestPointResult<DIM> hit;
+      hit.point = Vec<DIM>::Zero();
+      for (int k = 0; k < DIM; ++k)
+      {
+        hit.point += vertices[static_cast<std::size_t>(primitives[i][k])] / DIM;
+      }
+      hit.primitive = static_cast<std::int64_t>(i);
+      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
+      hit.distance = 0.0;
+      take(hit);
     }
     this->Build();
   }

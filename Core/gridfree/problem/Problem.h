@@ -157,7 +157,7 @@ private:
     this->ConstantData = !this->Mixed && !this->Coefficients && this->Shape->ConstantValues() &&
       (!this->Sources || this->Sources->Empty());
     // The plain screened walk with Dirichlet data of known range (a table's,
-    // or a function's sampled on a mesh) gives walk values W·g + (1 − W)·v
+    // or a function's sampled on the boundary) gives walk values W·g + (1 − W)·v
     // with 0 ≤ W ≤ 1 and v from a volume source of known range
     // (SteadyRange): bounded, which lets uneven weights pass where no unseen
     // walk could move the mean far (ErrorBarReliability.h).
@@ -191,7 +191,7 @@ private:
     // weight), so their values lie within g's range too; 0 is theirs only
     // for a walk that escaped (the exterior), whose points ErrorRule leaves
     // to the plain rule. g's range is a table's, or a function's sampled on
-    // the mesh (Boundary::ValueRanges).
+    // the boundary (Boundary::ValueRanges).
     const bool screened = this->Walk.Problem == Equation::ScreenedPoisson;
     const bool harmonic = (this->Walk.Problem == Equation::Laplace ||
                             this->Walk.Problem == Equation::Poisson) &&
@@ -240,7 +240,7 @@ private:
   bool GuidesScreenedSteps() const
   {
     if (this->Walk.Problem != Equation::ScreenedPoisson || this->Mixed || this->Coefficients ||
-      !this->Shape->IsMesh() || this->Walk.Screening == ScreenedSteps::Uniform)
+      this->Walk.Screening == ScreenedSteps::Uniform)
     {
       return false;
     }
@@ -534,8 +534,8 @@ public:
   }
 
   // The rule a point's error bar is judged by: with the bounds of its walk
-  // values where they are known (a value table or a function on a mesh,
-  // Boundary::ValueRanges, and the Laplace or Poisson walk without sources
+  // values where they are known (a value table or a function sampled on the
+  // boundary, Boundary::ValueRanges, and the Laplace or Poisson walk without sources
   // or the screened walk with no sources or a volume source of known
   // range), for walks never returned from far outside (nor escaped to it,
   // but for the screened walk, whose bounds hold 0). A value's control
