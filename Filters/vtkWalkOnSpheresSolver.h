@@ -487,10 +487,10 @@ public:
    * and √c times the boundary's diagonal is at least 10, or, under milder
    * screening, when the data lead one way (the guide's directions from
    * points inside the mesh agree, as for a plane wave), there is no
-   * source, and Peak Steps is Automatic and does not take the walk (that
-   * milder case needs a mesh boundary; on implicit, CSG and Bézier
-   * boundaries the guide reads the values at boundary points sampled near a
-   * lattice: gridfree/estimators/ScreenedGuide.h).
+   * source, and Peak Steps is Automatic and does not take the walk. On
+   * implicit, CSG and Bézier boundaries the guide reads the values at
+   * boundary points sampled near a lattice
+   * (gridfree/estimators/ScreenedGuide.h).
    */
   virtual void SetScreenedSteps(int value); // a value out of range is an error
   int GetScreenedSteps();

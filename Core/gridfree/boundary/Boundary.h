@@ -265,6 +265,11 @@ public:
     return cache.Hits;
   }
 
+  // Whether x lies inside a boundary that is not a mesh, as its geometry
+  // tells (BoundaryGeometry::Encloses); false for a mesh, whose inside
+  // InsideClosedMesh asks by ray parity.
+  bool GeometryEncloses(const Vec<DIM>& x) const { return this->Shape && this->Shape->Encloses(x); }
+
   // The mesh as given (empty for another geometry): a CSG operand builds its
   // signed distance from them.
   const std::vector<Vec<DIM>>& MeshVertices() const { return this->Vertices; }

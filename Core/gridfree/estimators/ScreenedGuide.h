@@ -45,8 +45,9 @@
 
 namespace gridfree
 {
-/// The centres of a lattice of `cells` cells a side over a closed mesh
-/// boundary's box that lie inside it (by ray parity): where
+/// The centres of a lattice of `cells` cells a side over a closed
+/// boundary's box that lie inside it (a mesh's by ray parity, another
+/// geometry's as it tells: Boundary::GeometryEncloses): where
 /// ScreenedGuide::Agreement is asked.
 template <int DIM>
 std::vector<Vec<DIM>> InteriorLattice(const Boundary<DIM>& boundary, int cells)
@@ -68,7 +69,7 @@ std::vector<Vec<DIM>> InteriorLattice(const Boundary<DIM>& boundary, int cells)
       x[k] = low[k] + extent[k] * ((rest % cells) + 0.5) / cells;
       rest /= cells;
     }
-    if (InsideClosedMesh<DIM>(boundary, x))
+    if (boundary.IsMesh() ? InsideClosedMesh<DIM>(boundary, x) : boundary.GeometryEncloses(x))
     {
       inside.push_back(x);
     }

@@ -51,6 +51,12 @@ public:
   // Number of parts (CSG leaves, curves, primitives) a ClosestPointResult's
   // `primitive` can name.
   virtual std::int64_t NumberOfParts() const = 0;
+
+  // Whether x lies inside the boundary, where the geometry can tell (false
+  // where it cannot). Only Problem::LeadingGuide asks, to choose the points
+  // it measures the screened guide's agreement at: a wrong answer costs
+  // variance, never bias.
+  virtual bool Encloses(const Vec<DIM>& /*x*/) const { return false; }
 };
 } // namespace gridfree
 

@@ -106,6 +106,9 @@ public:
   }
 
   BoundingBox<DIM> Bounds() const override { return this->Phi->Bounds(); }
+
+  // Inside is where φ < 0 (a signed distance's, a CSG tree's convention).
+  bool Encloses(const Vec<DIM>& x) const override { return this->Phi->Value(x) < 0.0; }
   std::int64_t NumberOfParts() const override { return this->Phi->NumberOfParts(); }
 
   double Lipschitz() const { return this->L; }

@@ -256,7 +256,7 @@ private:
   // 10, where GuidesScreenedSteps leaves the steps uniform), where the
   // guide's directions agree across the domain (ScreenedGuide::Agreement at
   // least kLeadingAgreement over the centres of an 8-cell lattice inside the
-  // mesh): the data lead one way, as a plane wave's do, and a point's value
+  // boundary: InteriorLattice): the data lead one way, as a plane wave's do, and a point's value
   // comes from rare walks that reach the far side, which uniform steps find
   // too seldom (the unit disk with e^{3x} at c = 9, the unit ball with
   // e^{2x} at c = 4: Documentation/ErrorBars.md). Not where the data come
@@ -268,7 +268,7 @@ private:
   std::shared_ptr<const ScreenedGuide<DIM>> LeadingGuide() const
   {
     if (this->Walk.Problem != Equation::ScreenedPoisson || this->Mixed || this->Coefficients ||
-      !this->Shape->IsMesh() || this->Walk.Screening != ScreenedSteps::Automatic ||
+      this->Walk.Screening != ScreenedSteps::Automatic ||
       this->Walk.PeakGuiding != PeakSteps::Automatic || (this->Sources && !this->Sources->Empty()) ||
       !(this->Walk.ScreeningCoefficient > 0.0))
     {

@@ -691,3 +691,36 @@ TEST(BezierBoundaryGeometry, ManyIdenticalCurves)
   EXPECT_NEAR(geometry.Distance(x), std::sqrt(ClosestPointOnCubicBezier(x, c).squaredDistance), 1e-14);
 }
 } // namespace
+
+// Encloses: the parity of the +x ray's crossings with the curves' chords.
+// A closed figure eight of two cubic loops encloses its two lobes and not
+// the point where it crosses itself nor anything outside; an open curve's
+// answer is its own business, but it must not fail.
+TEST(BezierCurves, EnclosesByRayParity)
+{
+  // Two teardrops, each a closed cubic (P0 = P3) on either side of the
+  // origin, around (±0.5, 0).
+  CubicBezier right, left;
+  right.P[0] = Vec2(0, 0);
+  right.P[1] = Vec2(1.3, 1.0);
+  right.P[2] = Vec2(1.3, -1.0);
+  right.P[3] = Vec2(0, 0);
+  left.P[0] = Vec2(0, 0);
+  left.P[1] = Vec2(-1.3, -1.0);
+  left.P[2] = Vec2(-1.3, 1.0);
+  left.P[3] = Vec2(0, 0);
+  const BezierBoundaryGeometry eight({ right, left });
+  EXPECT_TRUE(eight.Encloses(Vec2(0.5, 0.05)));
+  EXPECT_TRUE(eight.Encloses(Vec2(-0.5, -0.05)));
+  EXPECT_FALSE(eight.Encloses(Vec2(0.0, 0.4)));
+  EXPECT_FALSE(eight.Encloses(Vec2(1.5, 0.0)));
+  EXPECT_FALSE(eight.Encloses(Vec2(-2.0, 0.1)));
+  CubicBezier open;
+  open.P[0] = Vec2(0, 0);
+  open.P[1] = Vec2(1, 1);
+  open.P[2] = Vec2(2, -1);
+  open.P[3] = Vec2(3, 0);
+  const BezierBoundaryGeometry curve({ open });
+  EXPECT_NO_THROW(curve.Encloses(Vec2(1.0, 0.1)));
+  EXPECT_FALSE(BezierBoundaryGeometry({}).Encloses(Vec2(0, 0)));
+}

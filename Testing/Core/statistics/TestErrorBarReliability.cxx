@@ -745,6 +745,11 @@ TEST(ErrorBarReliability, DataOnImplicitAndBezierBoundariesHaveARange)
     const Outcome outcome = Solve<2>(Problem<2>(boundary, uniform), points, u, 256, 3);
     EXPECT_EQ(outcome.WrongUnflagged, 0);
     EXPECT_LT(outcome.Flagged, outcome.FlaggedWithoutBounds / 2);
+    // Their data lead one way, and Automatic guides them as on the mesh
+    // (the lattice's inside told by φ < 0 and by the curves' ray parity).
+    const Problem<2> automatic(boundary, Screened(9.0));
+    EXPECT_TRUE(automatic.StepsAreGuided());
+    ExpectCalibratedUnflagged(Solve<2>(automatic, points, u, 256, 3));
   }
 }
 
