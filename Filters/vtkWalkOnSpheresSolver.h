@@ -516,8 +516,9 @@ public:
    * small. PEAK_STEPS_AUTOMATIC (the default) leans where the largest |g| is
    * at least 10 times the area-weighted mean |g|, with no source, no
    * polynomial control variate, and no guided screened steps (nor Screened
-   * Steps set to uniform). Meshes with Dirichlet data only, in 3D and
-   * (the screened equation) in 2D
+   * Steps set to uniform). Dirichlet data only (on implicit, CSG and
+   * Bézier boundaries the peak is sought among boundary points sampled
+   * near a lattice), in 3D and (the screened equation) in 2D
    * (gridfree/estimators/PeakGuide.h).
    */
   virtual void SetPeakSteps(int value); // a value out of range is an error

@@ -16,11 +16,14 @@ With --other-geometry, boundaries that are not meshes, their data from
 Boundary Value Expression: an implicit unit sphere (vtkSignedDistanceSphere)
 with u = e^{2x} at c = 4 and with the plane wave u = e^{20x - 10} at
 c = 400, and the unit circle as eight cubic Bézier arcs with u = e^{3x} at
-c = 9 (the data are exact wherever they are read, round or not).
+c = 9 (the data are exact wherever they are read, round or not), and a
+narrow peak on the implicit sphere: the potential of a charge at
+a = (1.05, 0.1, 0), 0.055 outside it, 1/|x - a| for the Laplace equation
+and e^{-2.5|x - a|}/|x - a| at c = 6.25.
 
     PYTHONPATH=build/lib/python3.11/site-packages /usr/bin/python3 \\
         Testing/Benchmarks/screened_data_flags.py [--walks 256] [--walk-on 4] [--seed 3] \\
-        [--screened-steps 0] [--source | --other-geometry]
+        [--screened-steps 0] [--peak-steps 0] [--source | --other-geometry]
 
 Prints, per case and data: points, mean z², largest |z|, points flagged and
 points missed (|z| > 5 and not flagged), the mean z² of the flagged and
@@ -56,9 +59,13 @@ def solve(boundary, points, exact, screening, expression, args, source=None, lab
     solver.SetWalksPerPoint(args.walks)
     solver.SetWalkOnWhereUnreliable(args.walk_on)
     solver.SetSeed(args.seed)
-    solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.SCREENED_POISSON)
-    solver.SetScreeningCoefficient(screening)
+    if screening > 0:
+        solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.SCREENED_POISSON)
+        solver.SetScreeningCoefficient(screening)
+    else:
+        solver.SetEquation(gridfree.vtkWalkOnSpheresSolver.LAPLACE)
     solver.SetScreenedSteps(args.screened_steps)
+    solver.SetPeakSteps(args.peak_steps)
     if expression:
         solver.SetBoundaryValueExpression(expression)
     if source:
@@ -99,6 +106,8 @@ def main():
     parser.add_argument("--seed", type=int, default=3, help="the walks' seed")
     parser.add_argument("--screened-steps", type=int, default=0,
                         help="Screened Steps: 0 Automatic, 1 Uniform, 2 Guided")
+    parser.add_argument("--peak-steps", type=int, default=0,
+                        help="Peak Steps: 0 Automatic, 1 Uniform, 2 Guided")
     parser.add_argument("--source", action="store_true",
                         help="the cases with a volume source in x")
     parser.add_argument("--other-geometry", action="store_true",
@@ -206,6 +215,12 @@ def other_geometry(rng, args):
           label="c = 4", implicit=sphere)
     solve(None, ball, lambda x, y, z: math.exp(20.0 * x - 10.0), 400.0, "exp(20*x - 10)", args,
           label="c = 400", implicit=sphere)
+    charge = "sqrt((x - 1.05)^2 + (y - 0.1)^2 + z^2)"
+    distance = lambda x, y, z: math.dist((x, y, z), (1.05, 0.1, 0.0))  # noqa: E731
+    solve(None, ball, lambda x, y, z: 1.0 / distance(x, y, z), 0.0, "1/" + charge, args,
+          label="Coulomb", implicit=sphere)
+    solve(None, ball, lambda x, y, z: math.exp(-2.5 * distance(x, y, z)) / distance(x, y, z), 6.25,
+          "exp(-2.5*%s)/%s" % (charge, charge), args, label="Yukawa", implicit=sphere)
     disk = []
     while len(disk) < 300:
         x, y = rng.uniform(-1, 1), rng.uniform(-1, 1)

@@ -265,6 +265,23 @@ public:
     return cache.Hits;
   }
 
+  // A mesh primitive's centroid as a closest point on it (where the guides
+  // and ValueRanges read the values).
+  ClosestPointResult<DIM> PrimitiveCentroid(std::size_t i) const
+  {
+    const Primitive& p = this->Primitives[i];
+    ClosestPointResult<DIM> hit;
+    hit.point = Vec<DIM>::Zero();
+    for (int k = 0; k < DIM; ++k)
+    {
+      hit.point += this->Vertices[static_cast<std::size_t>(p[k])] / DIM;
+    }
+    hit.primitive = static_cast<std::int64_t>(i);
+    hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
+    hit.distance = 0.0;
+    return hit;
+  }
+
   // Whether x lies inside a boundary that is not a mesh, as its geometry
   // tells (BoundaryGeometry::Encloses); false for a mesh, whose inside
   // InsideClosedMesh asks by ray parity.
@@ -463,15 +480,7 @@ private:
     for (std::size_t i = 0; i < this->Primitives.size() && finite; ++i)
     {
       const Primitive& p = this->Primitives[i];
-      ClosestPointResult<DIM> hit;
-      hit.primitive = static_cast<std::int64_t>(i);
-      hit.distance = 0.0;
-      hit.point = Vec<DIM>::Zero();
-      for (int k = 0; k < DIM; ++k)
-      {
-        hit.point += this->Vertices[static_cast<std::size_t>(p[k])] / DIM;
-      }
-      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
+      ClosestPointResult<DIM> hit = this->PrimitiveCentroid(i);
       take(hit);
       for (int k = 0; k < DIM; ++k)
       {

@@ -11,7 +11,8 @@
 // The step draws its landing point y on ∂B(x, R) from the defensive mixture
 //   q(y) = (1 − α)·U + α·Σ_j w_j·V_j(y),   V_j(y) ∝ e^{−√c·s_j}/s_j,
 // s_j = |y − p_j|, p_j the peaks (the centroid of the primitive with the
-// largest |g|, and up to three more at least a quarter as high elsewhere),
+// largest |g|, or another geometry's sampled boundary point with it, and up
+// to three more at least a quarter as high elsewhere),
 // w_j their shares by height, U the uniform density, and multiplies the
 // walk's weight by U/q(y) ≤ 1/(1 − α)
 // (the exact importance weight: E_q[(U/q)·u] = mean over ∂B of u). V is
@@ -94,33 +95,42 @@ public:
   // tries grow only as −log(d − R)).
   static constexpr double kMostTries = 64.0;
 
-  /// The peaks of a mesh boundary's data (primitives' centroids, the
-  /// largest |g| over the components there) and how far the first stands
-  /// out; Found() is false for other geometries and where every value is 0.
+  /// The peaks of the boundary's data (at a mesh's primitives' centroids or
+  /// another geometry's sampled points, the largest |g| over the components
+  /// there) and how far the first stands out; Found() is false where every
+  /// value is 0, and for the 2D Laplace and Poisson equations.
   PeakGuide(const Boundary<DIM>& boundary, double c)
     : SqrtC(std::sqrt(std::max(c, 0.0)))
   {
-    if (!boundary.IsMesh() || (DIM == 2 && !(c > 0.0)))
+    if (DIM == 2 && !(c > 0.0))
     {
       return;
     }
+    // A mesh's primitives' centroids, each weighed by its size, or another
+    // geometry's sampled points (Boundary::GeometrySamples), weighed alike:
+    // the lattice's band holds about as many of them per unit of area
+    // whatever the boundary's slope.
     const auto& vertices = boundary.MeshVertices();
     const auto& primitives = boundary.MeshPrimitives();
+    const auto& samples = boundary.GeometrySamples();
+    const std::size_t n = boundary.IsMesh() ? primitives.size() : samples.size();
     std::vector<double> value(static_cast<std::size_t>(std::max(1, boundary.Components())));
-    std::vector<Vec<DIM>> centroid(primitives.size());
-    std::vector<double> height(primitives.size(), 0.0);
+    std::vector<Vec<DIM>> centroid(n);
+    std::vector<double> height(n, 0.0);
     double weighted = 0.0, area = 0.0;
-    for (std::size_t i = 0; i < primitives.size(); ++i)
+    for (std::size_t i = 0; i < n; ++i)
     {
       ClosestPointResult<DIM> hit;
-      hit.point = Vec<DIM>::Zero();
-      for (int k = 0; k < DIM; ++k)
+      double size = 1.0;
+      if (boundary.IsMesh())
       {
-        hit.point += vertices[static_cast<std::size_t>(primitives[i][k])] / DIM;
+        hit = boundary.PrimitiveCentroid(i);
+        size = PrimitiveSize(vertices, primitives[i]);
       }
-      hit.primitive = static_cast<std::int64_t>(i);
-      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
-      hit.distance = 0.0;
+      else
+      {
+        hit = samples[i];
+      }
       boundary.Evaluate(hit, value.data());
       double here = 0.0;
       for (double v : value)
@@ -133,7 +143,6 @@ public:
         continue;
       }
       height[i] = here;
-      const double size = PrimitiveSize(vertices, primitives[i]);
       weighted += size * here;
       area += size;
     }
@@ -143,27 +152,27 @@ public:
     double total = 0.0;
     while (static_cast<int>(this->Peaks.size()) < kMostPeaks)
     {
-      std::size_t best = primitives.size();
-      for (std::size_t i = 0; i < primitives.size(); ++i)
+      std::size_t best = n;
+      for (std::size_t i = 0; i < n; ++i)
       {
         bool covered = false;
         for (std::size_t j = 0; j < this->Peaks.size() && !covered; ++j)
         {
           covered = (centroid[i] - this->Peaks[j]).norm() <= reach[j];
         }
-        if (!covered && height[i] > 0.0 && (best == primitives.size() || height[i] > height[best]))
+        if (!covered && height[i] > 0.0 && (best == n || height[i] > height[best]))
         {
           best = i;
         }
       }
-      if (best == primitives.size() ||
+      if (best == n ||
         (!this->Peaks.empty() && height[best] < 0.25 * this->Height.front()))
       {
         break;
       }
       // Where the data first fall to half the peak's height.
       double half = std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < primitives.size(); ++i)
+      for (std::size_t i = 0; i < n; ++i)
       {
         if (height[i] < 0.5 * height[best])
         {

@@ -176,20 +176,9 @@ public:
     {
       take(hit);
     }
-    const auto& vertices = boundary.MeshVertices();
-    const auto& primitives = boundary.MeshPrimitives();
-    for (std::size_t i = 0; i < primitives.size(); ++i)
+    for (std::size_t i = 0; i < boundary.MeshPrimitives().size(); ++i)
     {
-      ClosestPointResult<DIM> hit;
-      hit.point = Vec<DIM>::Zero();
-      for (int k = 0; k < DIM; ++k)
-      {
-        hit.point += vertices[static_cast<std::size_t>(primitives[i][k])] / DIM;
-      }
-      hit.primitive = static_cast<std::int64_t>(i);
-      hit.barycentric = Vec<DIM>::Constant(1.0 / DIM);
-      hit.distance = 0.0;
-      take(hit);
+      take(boundary.PrimitiveCentroid(i));
     }
     this->Build();
   }

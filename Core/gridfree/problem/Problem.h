@@ -286,8 +286,8 @@ private:
       : nullptr;
   }
 
-  // Steps toward the data's peak (PeakGuide.h): walk on spheres on a
-  // mesh with Dirichlet data, for the Laplace, Poisson and screened
+  // Steps toward the data's peak (PeakGuide.h): walk on spheres with
+  // Dirichlet data, for the Laplace, Poisson and screened
   // equations (in 2D the screened equation only), where no screened guide
   // leads the steps. Automatic also leaves alone problems with sources (their answer comes from the volume
   // too), screened problems whose steps were asked to be uniform, and
@@ -296,7 +296,7 @@ private:
   bool MayGuideTowardPeak() const
   {
     const Equation e = this->Walk.Problem;
-    if (this->Mixed || this->Coefficients || !this->Shape->IsMesh() || this->Guide ||
+    if (this->Mixed || this->Coefficients || this->Guide ||
       this->Walk.PeakGuiding == PeakSteps::Uniform ||
       !(e == Equation::Laplace || e == Equation::Poisson || e == Equation::ScreenedPoisson) ||
       (DIM == 2 && e != Equation::ScreenedPoisson))

@@ -198,6 +198,27 @@ std::vector<CubicBezier> BezierCircle()
   return curves;
 }
 
+// An implicit rounded box with half extents 1, 0.7, 0.5 and rounding 0.2,
+// and 150 points inside it, at least 0.02 from its boundary.
+std::shared_ptr<const RoundedBoxDistance<3>> RoundedBox()
+{
+  return std::make_shared<RoundedBoxDistance<3>>(Vec3::Zero(), kEllipsoidAxes, 0.2);
+}
+
+std::vector<Vec3> PointsInRoundedBox(const RoundedBoxDistance<3>& box)
+{
+  std::vector<Vec3> points;
+  for (const Vec3& p : RandomPointsInBall<3>(2000, 1.0, 3))
+  {
+    const Vec3 q = p.cwiseProduct(kEllipsoidAxes);
+    if (points.size() < 150 && box.Value(q) < -0.02)
+    {
+      points.push_back(q);
+    }
+  }
+  return points;
+}
+
 // Data u itself, given exactly wherever a walk reads them.
 template <int DIM>
 std::shared_ptr<const BoundaryValueFunction<DIM>> ExactValues(const Field<DIM>& u)
@@ -917,16 +938,8 @@ TEST(ErrorBarReliability, GuidedStepsCalibratedUnderStrongScreening)
 // wrong point flagged); guided, right, none flagged.
 TEST(ErrorBarReliability, GuidedStepsOnImplicitAndBezierBoundaries)
 {
-  const auto box = std::make_shared<RoundedBoxDistance<3>>(Vec3::Zero(), kEllipsoidAxes, 0.2);
-  std::vector<Vec3> points;
-  for (const Vec3& p : RandomPointsInBall<3>(2000, 1.0, 3))
-  {
-    const Vec3 q = p.cwiseProduct(kEllipsoidAxes);
-    if (points.size() < 150 && box->Value(q) < -0.02)
-    {
-      points.push_back(q);
-    }
-  }
+  const auto box = RoundedBox();
+  const std::vector<Vec3> points = PointsInRoundedBox(*box);
   ASSERT_EQ(points.size(), 150u);
   const double k = 100.0;
   const Vec3 e = Vec3(1.0, 0.5, -0.3).normalized();
@@ -1028,6 +1041,36 @@ TEST(ErrorBarReliability, StepsTowardTheDataPeak)
   EXPECT_FALSE(Problem<3>(ExactData(mesh, smooth), Screened(1.0)).StepsLeanTowardPeak());
   const Field<3> onAConstant = [pole](const Vec3& x) { return 10.0 + 1.0 / (x - pole).norm(); };
   EXPECT_FALSE(Problem<3>(ExactData(mesh, onAConstant), WalkSettings{}).StepsLeanTowardPeak());
+}
+
+// The same on an implicit boundary, which has no primitives: the rounded
+// box with the pole 0.05 outside the middle of its +x face. The peak is
+// found among the boundary points nearest a lattice's centres
+// (Boundary::GeometrySamples).
+TEST(ErrorBarReliability, StepsTowardTheDataPeakOnAnImplicitBoundary)
+{
+  const auto box = RoundedBox();
+  const std::vector<Vec3> points = PointsInRoundedBox(*box);
+  const Vec3 pole(1.05, 0.1, 0.0);
+  for (const double c : { 6.25, 0.0 })
+  {
+    const double k = std::sqrt(c);
+    const Field<3> u = [k, pole](const Vec3& x) {
+      return std::exp(-k * (x - pole).norm()) / (x - pole).norm();
+    };
+    auto boundary = std::make_shared<Boundary<3>>();
+    boundary->SetGeometry(std::make_shared<ImplicitBoundaryGeometry<3>>(box), ExactValues<3>(u));
+    WalkSettings s = c > 0.0 ? Screened(c) : WalkSettings{};
+    s.Epsilon = 1e-6;
+    s.PeakGuiding = PeakSteps::Uniform;
+    std::printf(" c = %g, implicit rounded box, uniform steps, then toward the peak:\n", c);
+    const Outcome uniform = Solve<3>(Problem<3>(boundary, s), points, u, 256, 7);
+    EXPECT_GT(uniform.MeanZ2, 1.3) << "the case no longer shows the missing peak";
+    s.PeakGuiding = PeakSteps::Automatic;
+    const Problem<3> problem(boundary, s);
+    ASSERT_TRUE(problem.StepsLeanTowardPeak());
+    ExpectCalibratedUnflagged(Solve<3>(problem, points, u, 256, 7));
+  }
 }
 
 // The same in 2D, on the three lobes (a shape the 2D step's own tests do
