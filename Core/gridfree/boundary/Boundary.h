@@ -251,8 +251,8 @@ public:
   // cell's diagonal of the boundary, a band that every part of the boundary
   // wider than a cell crosses. A projection that did not reach the boundary
   // (an implicit function's Newton steps, far from a surface whose function
-  // is no distance) is left out. Taken once per geometry; ValueRanges and
-  // the screened guide read them.
+  // is no distance) is left out. Taken once per geometry; ValueRanges, the
+  // screened guide and the peak guide read them.
   const std::vector<ClosestPointResult<DIM>>& GeometrySamples() const
   {
     static const std::vector<ClosestPointResult<DIM>> none;
